@@ -1,0 +1,49 @@
+// materials/: constitutive models as pure functions of F and the rest fiber frame D.
+// Owns energy density, first Piola-Kirchhoff stress and parameter mapping; never sees the grid.
+#pragma once
+
+#include "tear/math/types.h"
+
+#include <string>
+
+namespace tear {
+
+enum class Model { QrAniso, FixedCorotated, NeoHookean, StvkHencky };
+
+// Parameters of one material, already mapped from the user's (E, nu, fiber_scale).
+// `mu`, `lambda` are the values the model's formula uses:
+//  - fixed_corotated, neo_hookean, stvk_hencky: the Lame parameters of (E, nu).
+//  - qr_aniso: lambda = lambda_Lame + mu, so that the small-strain response equals
+//    linear elasticity with (E, nu) (EQUATIONS.md §2, "Small-strain note").
+// kx = fiber_scale[0] * mu, ky = fiber_scale[1] * mu (qr_aniso only; 2D uses kx only).
+struct MaterialParams {
+  Model model = Model::QrAniso;
+  Real E = 1, nu = 0, rho = 1;
+  Real mu = 0, lambda = 0;
+  Real kx = 0, ky = 0;
+};
+
+// Lame parameters of linear elasticity.
+Real lame_mu(Real E, Real nu);
+Real lame_lambda(Real E, Real nu);
+
+MaterialParams make_material(Model model, Real E, Real nu, Real rho, Real fiber_scale1 = 0,
+                             Real fiber_scale2 = 0);
+
+// P-wave speed sqrt((lambda_Lame + 2 mu + max(kx, ky)) / rho): the elastic time-step limit.
+Real wave_speed(const MaterialParams& m);
+
+const char* model_name(Model m);
+bool parse_model(const std::string& name, Model* out);
+
+// Energy density Psi(F) per unit rest volume. `D` is the orthonormal rest fiber frame
+// [a1 a2 (a3)] (columns); isotropic models ignore it. `g` is the damage degradation
+// factor g(d) (EQUATIONS.md §2 "Degradation"); only qr_aniso uses it, 1 = undamaged.
+template <int Dim>
+Real energy_density(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D, Real g = 1);
+
+// First Piola-Kirchhoff stress P = dPsi/dF with the same arguments.
+template <int Dim>
+Mat<Dim> first_piola(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D, Real g = 1);
+
+}  // namespace tear

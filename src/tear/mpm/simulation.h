@@ -1,0 +1,67 @@
+// mpm/: the explicit MPM time integrator (paper Fig. 13): sort, P2G, grid update, G2P.
+// Owns the particle state of a running scene and its per-frame statistics.
+// Consumes the plain scene description (scene/scene.h) but never parses files.
+#pragma once
+
+#include "tear/particles/particles.h"
+#include "tear/scene/scene.h"
+
+#include <nlohmann/json.hpp>
+
+#include <memory>
+#include <string>
+
+namespace tear {
+
+// Wall-clock seconds spent in each phase since the simulation started.
+struct PhaseTimes {
+  double sort = 0, p2g = 0, grid = 0, g2p = 0, other = 0;
+  nlohmann::json to_json() const;
+};
+
+// Figures of one frame, as written to stats.jsonl (ARCHITECTURE.md "Outputs").
+struct FrameStats {
+  int frame = 0;
+  double time = 0;
+  long steps = 0;        // steps taken since the previous frame
+  double dt_min = 0, dt_max = 0;
+  size_t particles = 0;
+  double mass = 0;
+  Vec3d momentum = Vec3d::Zero();
+  Vec3d angular_momentum = Vec3d::Zero();  // about the origin, including the APIC affine part
+  double kinetic_energy = 0, elastic_energy = 0;
+  double max_damage = 0, mean_damage = 0, damaged_fraction = 0;
+  double wall_s = 0;     // wall time since the start of the run
+  nlohmann::json to_json() const;
+};
+
+// Dimension-erased interface used by the driver and the CLI.
+class Simulation {
+ public:
+  virtual ~Simulation() = default;
+  virtual int dim() const = 0;
+  virtual size_t num_particles() const = 0;
+  virtual int frame() const = 0;        // frames completed (0 = initial state)
+  virtual double time() const = 0;
+  virtual long total_steps() const = 0;
+  // Advance to the next frame time, landing on it exactly.
+  virtual void advance_frame() = 0;
+  // Advance by exactly one step (no larger than `dt_cap`); returns the dt taken.
+  virtual double step(double dt_cap) = 0;
+  // Stable time step estimate for the current state.
+  virtual double estimate_dt() const = 0;
+  // Statistics of the current state; step figures are those since the last call.
+  virtual FrameStats collect_stats() = 0;
+  virtual const PhaseTimes& phase_times() const = 0;
+  // Binary little-endian PLY of the current particles (ARCHITECTURE.md "Outputs").
+  virtual std::string encode_ply() const = 0;
+  // Bytes of memory now held by particles and grid.
+  virtual size_t memory_bytes() const = 0;
+};
+
+std::unique_ptr<Simulation> make_simulation(const Scene& scene);
+
+template <int Dim>
+class MpmSolver;  // defined in mpm/solver.h; Simulation wraps it.
+
+}  // namespace tear

@@ -1,0 +1,101 @@
+// scene/: loading, validating and resolving JSON scene files (../shared/design/SCENE_FORMAT.md).
+// Owns Scene (a plain description) and SceneError; knows nothing of grids or solvers.
+#pragma once
+
+#include "tear/materials/material.h"
+#include "tear/scene/shape.h"
+
+#include <nlohmann/json.hpp>
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace tear {
+
+// The one error type of the scene layer. what() is "FILE: JSON.PATH: reason".
+class SceneError : public std::runtime_error {
+ public:
+  SceneError(const std::string& file, const std::string& path, const std::string& reason);
+  const std::string& file() const { return file_; }
+  const std::string& path() const { return path_; }
+  const std::string& reason() const { return reason_; }
+
+ private:
+  std::string file_, path_, reason_;
+};
+
+enum class Transfer { Apic, Pic, Flip };
+enum class WallType { Sticky, Slip, Separate, None };
+enum class FiberField { Constant, Radial, Circumferential, Longitudinal, Random };
+
+struct FiberSpec {
+  FiberField type = FiberField::Constant;
+  Vec3d a1 = Vec3d::UnitX();
+  Vec3d a2 = Vec3d::Zero();     // zero: choose any unit vector orthogonal to a1
+  bool has_a2 = false;
+  Vec3d center = Vec3d::Zero(); // radial / circumferential / longitudinal reference point
+  Vec3d axis = Vec3d::UnitZ();  // circumferential / longitudinal axis (3D; 2D uses z)
+};
+
+struct MaterialSpec {
+  std::string name;
+  MaterialParams params;
+  Real fiber_scale[2] = {0, 0};
+};
+
+struct ObjectSpec {
+  Shape shape;
+  int material = 0;            // index into Scene::materials
+  int ppc = 4;                 // particles per cell
+  bool grid_sampling = false;  // "sampling": "grid" (regular lattice) vs stratified random
+  Vec3d velocity = Vec3d::Zero();
+  Vec3d angular_velocity = Vec3d::Zero();  // about the shape's world centre; 2D uses z
+  FiberSpec fibers;
+};
+
+struct BoundarySpec {
+  WallType type = WallType::Sticky;  // never None here
+  Shape shape;
+  double friction = 0;
+  Vec3d velocity = Vec3d::Zero();
+  Vec3d angular_velocity = Vec3d::Zero();  // about the shape's world centre
+  double start = 0, end = 1e30;
+};
+
+struct Scene {
+  std::string file;  // path the scene was loaded from ("" when built in code)
+  std::string name;
+  int dim = 2;
+  uint64_t seed = 1;
+  // grid
+  double dx = 0.01;
+  Vec3d domain_min = Vec3d::Zero(), domain_max = Vec3d::Ones();
+  WallType walls = WallType::Separate;
+  // time
+  double frame_dt = 1.0 / 24;
+  int frames = 24;
+  double cfl = 0.4;
+  double max_dt = 1e-3;
+  Vec3d gravity = Vec3d::Zero();
+  Transfer transfer = Transfer::Apic;
+  double flip_ratio = 0.95;
+  std::vector<MaterialSpec> materials;
+  std::vector<ObjectSpec> objects;
+  std::vector<BoundarySpec> boundaries;
+  // output
+  int output_every = 1;
+  std::vector<std::string> formats{"ply"};
+  int checkpoint_every = 10;
+
+  nlohmann::json resolved;  // the full scene with every default filled in
+};
+
+// Load, validate and resolve a scene. `overrides` are "dotted.path=VALUE" strings from
+// `tear run --set`; VALUE is parsed as JSON when it parses, else taken as a string.
+// Throws SceneError naming the file, the JSON path and the reason.
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+// Same, from an in-memory JSON document (`file` is used in error messages and to resolve paths).
+Scene parse_scene(const nlohmann::json& doc, const std::string& file);
+
+}  // namespace tear

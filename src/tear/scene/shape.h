@@ -1,0 +1,47 @@
+// scene/: analytic shapes used both to sample objects and as colliders.
+// Geometry is always 3D double; 2D scenes use z = 0 and ignore the third axis.
+#pragma once
+
+#include "tear/math/types.h"
+
+#include <Eigen/Geometry>
+
+namespace tear {
+
+// Rigid transform plus uniform scale, applied as x_world = translate + R * (scale * x_local).
+struct ShapeTransform {
+  Vec3d translate = Vec3d::Zero();
+  Eigen::Matrix3d rotate = Eigen::Matrix3d::Identity();
+  double scale = 1.0;
+  Vec3d to_local(const Vec3d& p) const { return rotate.transpose() * (p - translate) / scale; }
+  Vec3d to_world(const Vec3d& p) const { return translate + rotate * (scale * p); }
+};
+
+struct Shape {
+  enum class Type { Box, Sphere, Cylinder, Tube, HalfSpace };
+  Type type = Type::Box;
+  int dim = 3;
+  // box
+  Vec3d min = Vec3d::Zero(), max = Vec3d::Zero();
+  // sphere (disk in 2D), cylinder, tube: centre; cylinder/tube: unit axis, height along it
+  Vec3d center = Vec3d::Zero();
+  Vec3d axis = Vec3d::UnitX();
+  double radius = 0, inner_radius = 0, height = 0;
+  // half_space: a point on the plane and the outward normal of the solid side's boundary;
+  // the solid occupies {x : (x - point) . normal <= 0}.
+  Vec3d point = Vec3d::Zero(), normal = Vec3d::UnitY();
+  ShapeTransform transform;
+
+  // Signed distance (negative inside), in world units. Exact for box/sphere/half_space,
+  // exact up to the transform's uniform scale for the others.
+  double sdf(const Vec3d& p) const;
+  bool inside(const Vec3d& p) const { return sdf(p) <= 0; }
+  // Outward unit normal (gradient of sdf) at p.
+  Vec3d normal_at(const Vec3d& p) const;
+  // World-space axis-aligned bounds (half_space: infinite).
+  void bounds(Vec3d* lo, Vec3d* hi) const;
+  // World-space centre used for angular velocity of colliders.
+  Vec3d world_center() const;
+};
+
+}  // namespace tear
