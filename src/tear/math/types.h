@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/LU>  // determinant(), inverse()
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>

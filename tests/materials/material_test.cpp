@@ -1,0 +1,288 @@
+#include "tear/materials/material.h"
+#include "tear/math/qr.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace tear {
+namespace {
+
+const Model kModels[] = {Model::QrAniso, Model::FixedCorotated, Model::NeoHookean,
+                         Model::StvkHencky};
+
+template <int Dim>
+Mat<Dim> random_matrix(std::mt19937_64& rng, double range) {
+  std::uniform_real_distribution<double> u(-range, range);
+  Mat<Dim> A;
+  for (int i = 0; i < Dim; ++i)
+    for (int j = 0; j < Dim; ++j) A(i, j) = u(rng);
+  return A;
+}
+
+template <int Dim>
+Mat<Dim> random_rotation(std::mt19937_64& rng) {
+  Mat<Dim> Q, R;
+  qr_decompose<Dim>(random_matrix<Dim>(rng, 1) + 0.1 * Mat<Dim>::Identity(), &Q, &R);
+  return Q;
+}
+
+// F = U diag(s) V^T with prescribed singular values (a negative last one inverts F).
+template <int Dim>
+Mat<Dim> with_singular_values(std::mt19937_64& rng, const Vec<Dim>& s) {
+  return random_rotation<Dim>(rng) * s.asDiagonal() * random_rotation<Dim>(rng).transpose();
+}
+
+// The deformation gradients every derivative test visits: mild, large, near-singular and
+// inverted ones.
+template <int Dim>
+std::vector<Mat<Dim>> test_deformations(std::mt19937_64& rng) {
+  std::vector<Mat<Dim>> Fs;
+  for (int k = 0; k < 6; ++k) {
+    Fs.push_back(Mat<Dim>::Identity() + random_matrix<Dim>(rng, 0.3));
+    Fs.push_back(Mat<Dim>::Identity() + random_matrix<Dim>(rng, 1.0));
+  }
+  Vec<Dim> near_singular = Vec<Dim>::Ones(), inverted = Vec<Dim>::Ones();
+  near_singular[0] = 1.3;
+  near_singular[Dim - 1] = 2e-3;
+  inverted[0] = 0.8;
+  inverted[Dim - 1] = -0.4;
+  for (int k = 0; k < 4; ++k) {
+    Fs.push_back(with_singular_values<Dim>(rng, near_singular));
+    Fs.push_back(with_singular_values<Dim>(rng, inverted));
+  }
+  return Fs;
+}
+
+template <int Dim>
+void expect_stress_is_energy_gradient(Model model, Real g) {
+  std::mt19937_64 rng(42 + Dim);
+  const MaterialParams m = make_material(model, 1000, 0.3, 1, 4, 2);
+  int checked = 0;
+  for (const Mat<Dim>& F : test_deformations<Dim>(rng)) {
+    const Mat<Dim> D = random_rotation<Dim>(rng);
+    const Mat<Dim> P = first_piola<Dim>(m, F, D, g);
+    const double h = 1e-6;
+    Mat<Dim> fd;
+    for (int i = 0; i < Dim; ++i)
+      for (int j = 0; j < Dim; ++j) {
+        Mat<Dim> Fp = F, Fm = F;
+        Fp(i, j) += h;
+        Fm(i, j) -= h;
+        fd(i, j) = (energy_density<Dim>(m, Fp, D, g) - energy_density<Dim>(m, Fm, D, g)) / (2 * h);
+      }
+    EXPECT_LT((P - fd).norm(), 1e-6 * (1 + P.norm()))
+        << model_name(model) << " Dim " << Dim << " g " << g << "\nF =\n" << F << "\nP =\n"
+        << P << "\nfinite difference =\n" << fd;
+    ASSERT_TRUE(P.allFinite());
+    ++checked;
+  }
+  EXPECT_EQ(checked, 20);
+}
+
+TEST(Materials, StressIsTheEnergyGradientByFiniteDifferences) {
+  for (Model model : kModels) {
+    expect_stress_is_energy_gradient<2>(model, 1);
+    expect_stress_is_energy_gradient<3>(model, 1);
+  }
+}
+
+TEST(Materials, DegradedQrStressIsTheDegradedEnergyGradient) {
+  expect_stress_is_energy_gradient<2>(Model::QrAniso, 0.3);
+  expect_stress_is_energy_gradient<3>(Model::QrAniso, 0.3);
+  expect_stress_is_energy_gradient<3>(Model::QrAniso, 0.0);
+}
+
+template <int Dim>
+void expect_rest_and_rotation_are_stress_free() {
+  std::mt19937_64 rng(5);
+  for (Model model : kModels) {
+    const MaterialParams m = make_material(model, 1000, 0.3, 1, 10, 5);
+    for (int k = 0; k < 10; ++k) {
+      const Mat<Dim> D = random_rotation<Dim>(rng);
+      const Mat<Dim> R = random_rotation<Dim>(rng);
+      EXPECT_LT(first_piola<Dim>(m, Mat<Dim>::Identity(), D).norm(), 1e-12 * m.E) << model_name(model);
+      EXPECT_NEAR(energy_density<Dim>(m, Mat<Dim>::Identity(), D), 0, 1e-12);
+      EXPECT_LT(first_piola<Dim>(m, R, D).norm(), 1e-12 * m.E) << model_name(model);
+      EXPECT_NEAR(energy_density<Dim>(m, R, D), 0, 1e-10);
+    }
+  }
+}
+
+TEST(Materials, ZeroStressAtRestAndUnderRotation) {
+  expect_rest_and_rotation_are_stress_free<2>();
+  expect_rest_and_rotation_are_stress_free<3>();
+}
+
+template <int Dim>
+void expect_rotation_invariance() {
+  std::mt19937_64 rng(9);
+  for (Model model : kModels) {
+    const MaterialParams m = make_material(model, 1000, 0.3, 1, 10, 5);
+    for (const Mat<Dim>& F : test_deformations<Dim>(rng)) {
+      const Mat<Dim> D = random_rotation<Dim>(rng);
+      const Mat<Dim> R = random_rotation<Dim>(rng);
+      const Mat<Dim> P = first_piola<Dim>(m, F, D);
+      EXPECT_LT((first_piola<Dim>(m, R * F, D) - R * P).norm(), 1e-9 * (1 + P.norm()))
+          << model_name(model);
+      EXPECT_NEAR(energy_density<Dim>(m, R * F, D), energy_density<Dim>(m, F, D),
+                  1e-9 * (1 + std::abs(energy_density<Dim>(m, F, D))));
+    }
+  }
+}
+
+TEST(Materials, RotationInvariance) {
+  expect_rotation_invariance<2>();
+  expect_rotation_invariance<3>();
+}
+
+// The paper's route to the stress (EQUATIONS.md §2): with F D = Q R and M = dPsi/dR (upper
+// triangular), Abar is the symmetric matrix whose upper triangle is that of M R^T, and
+// P = Q Abar R^{-T} D^T. It divides by r_ii; the library's form must agree where R is invertible.
+template <int Dim>
+Mat<Dim> paper_qr_stress(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D) {
+  Mat<Dim> Q, R;
+  qr_decompose<Dim>(F * D, &Q, &R);
+  const Real J = R.diagonal().prod();
+  const Real s = -m.mu + m.lambda * (J - 1);
+  Mat<Dim> M = m.mu * R;
+  for (int i = 0; i < Dim; ++i) M(i, i) += s * J / R(i, i);
+  M(0, 0) += m.kx * (R(0, 0) - 1);
+  if (Dim == 3) {
+    const Real n2 = std::hypot(R(0, 1), R(1, 1));
+    M(0, 1) += m.ky * (n2 - 1) * R(0, 1) / n2;
+    M(1, 1) += m.ky * (n2 - 1) * R(1, 1) / n2;
+  }
+  const Mat<Dim> MRt = M * R.transpose();
+  Mat<Dim> Abar;
+  for (int i = 0; i < Dim; ++i)
+    for (int j = i; j < Dim; ++j) Abar(i, j) = Abar(j, i) = MRt(i, j);
+  return Q * Abar * R.inverse().transpose() * D.transpose();
+}
+
+template <int Dim>
+void expect_paper_stress_agrees() {
+  std::mt19937_64 rng(13);
+  const MaterialParams m = make_material(Model::QrAniso, 1000, 0.3, 1, 6, 3);
+  for (const Mat<Dim>& F : test_deformations<Dim>(rng)) {
+    const Mat<Dim> D = random_rotation<Dim>(rng);
+    const Mat<Dim> P = first_piola<Dim>(m, F, D);
+    EXPECT_LT((paper_qr_stress<Dim>(m, F, D) - P).norm(), 1e-8 * (1 + P.norm()));
+  }
+}
+
+TEST(QrAniso, DivisionFreeStressEqualsThePaperForm) {
+  expect_paper_stress_agrees<2>();
+  expect_paper_stress_agrees<3>();
+}
+
+TEST(QrAniso, StressStaysFiniteAndContinuousAsR11GoesToZero) {
+  // Fiber a1 = x; F squashes the fiber to length r11 while other directions stay regular.
+  const MaterialParams m = make_material(Model::QrAniso, 1000, 0.3, 1, 0, 3);
+  const Mat<3> D = Mat<3>::Identity();
+  auto F_at = [](double r11) {
+    Mat<3> F;
+    F << r11, 0.4, 0.1,  //
+        0, 1.1, 0.3,     //
+        0, 0.2, 0.9;
+    return F;
+  };
+  const Mat<3> P0 = first_piola<3>(m, F_at(0), D);
+  ASSERT_TRUE(P0.allFinite());
+  for (double r11 : {1e-4, 1e-8, 1e-12, 1e-30, 1e-300}) {
+    const Mat<3> P = first_piola<3>(m, F_at(r11), D);
+    ASSERT_TRUE(P.allFinite()) << r11;
+    EXPECT_LT((P - P0).norm(), 1e4 * r11 * (1 + P0.norm())) << r11;
+  }
+  // With fiber stiffness the stress is still finite at r11 = 0 (2D and 3D).
+  const MaterialParams mf = make_material(Model::QrAniso, 1000, 0.3, 1, 20, 3);
+  EXPECT_TRUE(first_piola<3>(mf, F_at(0), D).allFinite());
+  Mat<2> F2;
+  F2 << 0, 0.5, 0, 1.2;
+  EXPECT_TRUE(first_piola<2>(mf, F2, Mat<2>::Identity()).allFinite());
+  EXPECT_TRUE(first_piola<3>(mf, Mat<3>::Zero(), D).allFinite());
+}
+
+template <int Dim>
+void expect_small_strain_matches_linear_elasticity(Model model) {
+  const double E = 2500, nu = 0.27;
+  const MaterialParams m = make_material(model, E, nu, 1);
+  const double mu = E / (2 * (1 + nu)), lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
+  std::mt19937_64 rng(17);
+  const double eps = 1e-6;
+  for (int k = 0; k < 5; ++k) {
+    const Mat<Dim> H = random_matrix<Dim>(rng, 1);
+    const Mat<Dim> strain = eps * (H + H.transpose()) / 2;
+    const Mat<Dim> sigma = 2 * mu * strain + lambda * strain.trace() * Mat<Dim>::Identity();
+    const Mat<Dim> P = first_piola<Dim>(m, Mat<Dim>::Identity() + eps * H, random_rotation<Dim>(rng));
+    EXPECT_LT((P - sigma).norm(), 1e-4 * sigma.norm()) << model_name(model) << " Dim " << Dim;
+  }
+}
+
+TEST(Materials, SmallStrainMatchesLinearElasticityWithEAndNu) {
+  for (Model model : kModels) {
+    expect_small_strain_matches_linear_elasticity<2>(model);
+    expect_small_strain_matches_linear_elasticity<3>(model);
+  }
+}
+
+TEST(QrAniso, FiberStiffnessAddsToTheUniaxialModulusAlongTheFiber) {
+  const double E = 1000, nu = 0.25, gamma1 = 8, gamma2 = 3;
+  const MaterialParams m = make_material(Model::QrAniso, E, nu, 1, gamma1, gamma2);
+  const double mu = E / (2 * (1 + nu)), lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
+  std::mt19937_64 rng(23);
+  const Mat<3> D = random_rotation<3>(rng);
+  const double e = 1e-6;
+  for (int f = 0; f < 3; ++f) {
+    const Vec<3> a = D.col(f);
+    const Mat<3> F = Mat<3>::Identity() + e * a * a.transpose();
+    const double normal_stress = a.dot(first_piola<3>(m, F, D) * a);
+    const double fiber = f == 0 ? gamma1 * mu : f == 1 ? gamma2 * mu : 0;
+    EXPECT_NEAR(normal_stress / e, lambda + 2 * mu + fiber, 1e-3 * (lambda + 2 * mu)) << f;
+  }
+  // 2D: only a1 is stiffened.
+  const MaterialParams m2 = make_material(Model::QrAniso, E, nu, 1, gamma1, 0);
+  Mat<2> D2;
+  D2 << 0.6, -0.8, 0.8, 0.6;
+  const Vec<2> a1 = D2.col(0), a2 = D2.col(1);
+  const double s1 = a1.dot(first_piola<2>(m2, Mat<2>::Identity() + e * a1 * a1.transpose(), D2) * a1);
+  const double s2 = a2.dot(first_piola<2>(m2, Mat<2>::Identity() + e * a2 * a2.transpose(), D2) * a2);
+  EXPECT_NEAR(s1 / e, lambda + 2 * mu + gamma1 * mu, 1e-3 * lambda);
+  EXPECT_NEAR(s2 / e, lambda + 2 * mu, 1e-3 * lambda);
+}
+
+TEST(QrAniso, DegradationSoftensTensionButNotCompressionVolume) {
+  const MaterialParams m = make_material(Model::QrAniso, 1000, 0.3, 1);
+  const Mat<3> D = Mat<3>::Identity();
+  const Mat<3> expand = 1.01 * Mat<3>::Identity(), squeeze = 0.99 * Mat<3>::Identity();
+  // Pure dilation: the stress is s cof F + mu F; in tension every term scales with g.
+  EXPECT_NEAR(first_piola<3>(m, expand, D, 0.25).norm(), 0.25 * first_piola<3>(m, expand, D).norm(),
+              1e-9 * first_piola<3>(m, expand, D).norm());
+  // In compression the volumetric term is kept: the degraded stress is not scaled by g.
+  const double ratio = first_piola<3>(m, squeeze, D, 0.25).norm() / first_piola<3>(m, squeeze, D).norm();
+  EXPECT_GT(ratio, 0.5);
+}
+
+TEST(Materials, ParameterMappingAndWaveSpeed) {
+  const MaterialParams q = make_material(Model::QrAniso, 1000, 0.25, 2, 4, 1);
+  const double mu = 400, lambda = 400;
+  EXPECT_DOUBLE_EQ(q.mu, mu);
+  EXPECT_DOUBLE_EQ(q.lambda, lambda + mu);
+  EXPECT_DOUBLE_EQ(q.kx, 4 * mu);
+  EXPECT_DOUBLE_EQ(q.ky, mu);
+  EXPECT_DOUBLE_EQ(wave_speed(q), std::sqrt((lambda + 2 * mu + 4 * mu) / 2));
+  const MaterialParams c = make_material(Model::FixedCorotated, 1000, 0.25, 2, 4, 1);
+  EXPECT_DOUBLE_EQ(c.lambda, lambda);
+  EXPECT_DOUBLE_EQ(c.kx, 0);
+  EXPECT_DOUBLE_EQ(wave_speed(c), std::sqrt((lambda + 2 * mu) / 2));
+  Model parsed;
+  for (Model model : kModels) {
+    ASSERT_TRUE(parse_model(model_name(model), &parsed));
+    EXPECT_EQ(parsed, model);
+  }
+  EXPECT_FALSE(parse_model("qr-aniso", &parsed));
+}
+
+}  // namespace
+}  // namespace tear
