@@ -57,6 +57,12 @@ class Simulation {
   virtual std::string encode_ply() const = 0;
   // Bytes of memory now held by particles and grid.
   virtual size_t memory_bytes() const = 0;
+  // Restartable state: particles in their current order, time, frame and step counters.
+  // A run resumed from it continues bit-identically to one that never stopped.
+  virtual std::string encode_checkpoint() const = 0;
+  // Throws std::runtime_error with the reason if the bytes are not a checkpoint of this scene
+  // (format, dimension, particle count).
+  virtual void decode_checkpoint(const std::string& bytes) = 0;
 };
 
 std::unique_ptr<Simulation> make_simulation(const Scene& scene);

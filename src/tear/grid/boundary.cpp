@@ -1,0 +1,89 @@
+#include "tear/grid/boundary.h"
+
+#include <Eigen/Geometry>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+
+namespace tear {
+
+template <int Dim>
+Vec<Dim> contact_velocity(const Vec<Dim>& v, const Vec<Dim>& v_wall, const Vec<Dim>& n,
+                          WallType type, Real friction) {
+  if (type == WallType::Sticky) return v_wall;
+  if (type == WallType::None) return v;
+  Vec<Dim> rel = v - v_wall;
+  const Real vn = rel.dot(n);
+  if (type == WallType::Separate && vn >= 0) return v;  // leaving the boundary: free
+  Vec<Dim> vt = rel - vn * n;
+  if (friction > 0 && vn < 0) {
+    const Real t = vt.norm();
+    vt = t > -friction * vn ? Vec<Dim>(vt * (1 + friction * vn / t)) : Vec<Dim>::Zero();
+  }
+  return v_wall + vt;
+}
+
+ColliderState collider_state(const BoundarySpec& b, double time) {
+  ColliderState s;
+  s.center0 = b.shape.world_center();
+  if (time < b.start || time > b.end) return s;
+  s.active = true;
+  const double elapsed = time - b.start;
+  s.displacement = b.velocity * elapsed;
+  const double w = b.angular_velocity.norm();
+  if (w > 0)
+    s.rotation = Eigen::AngleAxisd(w * elapsed, b.angular_velocity / w).toRotationMatrix();
+  return s;
+}
+
+template <int Dim>
+void apply_boundaries(SparseGrid<Dim>& grid, WallType walls,
+                      const std::vector<BoundarySpec>& boundaries, double time) {
+  std::vector<ColliderState> states;
+  for (const BoundarySpec& b : boundaries) states.push_back(collider_state(b, time));
+  const IVec<Dim> n_nodes = grid.num_nodes();
+  const int blocks = grid.num_blocks();
+  tbb::parallel_for(0, blocks, [&](int blk) {
+    for (int l = 0; l < SparseGrid<Dim>::kNodesPerBlock; ++l) {
+      const int node = blk * SparseGrid<Dim>::kNodesPerBlock + l;
+      if (grid.mass[node] <= 0) continue;
+      Vec<Dim>& v = grid.velocity[node];
+      if (walls != WallType::None) {
+        const IVec<Dim> g = grid.node_coord(node);
+        for (int d = 0; d < Dim; ++d) {
+          Vec<Dim> n = Vec<Dim>::Zero();
+          if (g[d] < kWallNodes) n[d] = 1;
+          else if (g[d] > n_nodes[d] - 1 - kWallNodes) n[d] = -1;
+          else continue;
+          v = contact_velocity<Dim>(v, Vec<Dim>::Zero(), n, walls, 0);
+        }
+      }
+      if (states.empty()) continue;
+      const Vec<Dim> xi = grid.node_position(node);
+      Vec3d p = Vec3d::Zero();
+      p.template head<Dim>() = xi.template cast<double>();
+      for (size_t c = 0; c < boundaries.size(); ++c) {
+        const ColliderState& s = states[c];
+        if (!s.active) continue;
+        const BoundarySpec& b = boundaries[c];
+        const Vec3d centre = s.center0 + s.displacement;
+        const Vec3d q = s.center0 + s.rotation.transpose() * (p - centre);
+        if (b.shape.sdf(q) > 0) continue;
+        const Vec3d n3 = s.rotation * b.shape.normal_at(q);
+        const Vec3d vw3 = b.velocity + b.angular_velocity.cross(p - centre);
+        v = contact_velocity<Dim>(v, vw3.template head<Dim>().template cast<Real>(),
+                                  n3.template head<Dim>().template cast<Real>().normalized(),
+                                  b.type, Real(b.friction));
+      }
+    }
+  });
+}
+
+template Vec<2> contact_velocity<2>(const Vec<2>&, const Vec<2>&, const Vec<2>&, WallType, Real);
+template Vec<3> contact_velocity<3>(const Vec<3>&, const Vec<3>&, const Vec<3>&, WallType, Real);
+template void apply_boundaries<2>(SparseGrid<2>&, WallType, const std::vector<BoundarySpec>&,
+                                  double);
+template void apply_boundaries<3>(SparseGrid<3>&, WallType, const std::vector<BoundarySpec>&,
+                                  double);
+
+}  // namespace tear

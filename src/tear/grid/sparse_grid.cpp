@@ -1,0 +1,150 @@
+#include "tear/grid/sparse_grid.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace tear {
+
+template <int Dim>
+void SparseGrid<Dim>::setup(const Vec3d& domain_min, const Vec3d& domain_max, double dx) {
+  dx_ = dx;
+  size_t total = 1;
+  for (int d = 0; d < Dim; ++d) {
+    origin_[d] = Real(domain_min[d]);
+    n_nodes_[d] = int(std::ceil((domain_max[d] - domain_min[d]) / dx - 1e-9)) + 1;
+    // Padding below node 0 and above the last node, plus one block for the +1 neighbour.
+    n_slots_[d] = ((n_nodes_[d] + 2 * kPad) >> kLogBlock) + 2;
+    total *= size_t(n_slots_[d]);
+  }
+  table_.assign(total, -1);
+  counts_.assign(total, 0);
+  block_slot_.clear();
+}
+
+template <int Dim>
+IVec<Dim> SparseGrid<Dim>::slot_coord(int slot) const {
+  IVec<Dim> b;
+  for (int d = 0; d < Dim; ++d) {
+    b[d] = slot % n_slots_[d];
+    slot /= n_slots_[d];
+  }
+  return b;
+}
+
+template <int Dim>
+void SparseGrid<Dim>::bin(const std::vector<Vec<Dim>>& x) {
+  const size_t n = x.size();
+  particle_slot_.resize(n);
+  const Real inv_dx = Real(1 / dx_);
+  tbb::parallel_for(size_t(0), n, [&](size_t p) {
+    IVec<Dim> b;
+    for (int d = 0; d < Dim; ++d) {
+      const int base = BSpline1D<3>::base_node((x[p][d] - origin_[d]) * inv_dx) + kPad;
+      TEAR_ASSERT(base >= 0 && base < n_nodes_[d] + 2 * kPad);
+      b[d] = base >> kLogBlock;
+    }
+    particle_slot_[p] = slot_of(b);
+  });
+
+  // Reset the previous activation, then count particles per home slot.
+  for (int s : block_slot_) table_[s] = -1;
+  block_slot_.clear();
+  home_blocks_.clear();
+  for (size_t p = 0; p < n; ++p) ++counts_[particle_slot_[p]];
+
+  // Home blocks (with particles) in slot order; their +1 neighbours are activated too.
+  std::vector<int> home_slots;
+  for (size_t p = 0; p < n; ++p) {
+    const int s = particle_slot_[p];
+    if (table_[s] == -2) continue;
+    table_[s] = -2;  // mark seen
+    home_slots.push_back(s);
+  }
+  std::sort(home_slots.begin(), home_slots.end());
+  uint32_t offset = 0;
+  for (int s : home_slots) {
+    home_blocks_.push_back({s, offset, offset + counts_[s]});
+    offset += counts_[s];
+    counts_[s] = home_blocks_.back().begin;  // becomes the fill cursor
+  }
+  std::vector<int> active;
+  active.reserve(home_slots.size() * kColours);
+  for (int s : home_slots) {
+    const IVec<Dim> b = slot_coord(s);
+    for (int c = 0; c < kColours; ++c) {
+      IVec<Dim> nb = b;
+      for (int d = 0; d < Dim; ++d) nb[d] += (c >> d) & 1;
+      active.push_back(slot_of(nb));
+    }
+  }
+  std::sort(active.begin(), active.end());
+  active.erase(std::unique(active.begin(), active.end()), active.end());
+  for (int s : home_slots) table_[s] = -1;
+  block_slot_ = active;
+  for (size_t i = 0; i < active.size(); ++i) table_[active[i]] = int(i);
+
+  // Stable counting sort of particles by home slot.
+  order_.resize(n);
+  for (size_t p = 0; p < n; ++p) order_[counts_[particle_slot_[p]]++] = uint32_t(p);
+  for (int s : home_slots) counts_[s] = 0;
+
+  for (auto& c : colours_) c.clear();
+  for (size_t h = 0; h < home_blocks_.size(); ++h) {
+    const IVec<Dim> b = slot_coord(home_blocks_[h].slot);
+    int c = 0;
+    for (int d = 0; d < Dim; ++d) c |= (b[d] & 1) << d;
+    colours_[c].push_back(int(h));
+  }
+
+  const size_t nodes = block_slot_.size() * kNodesPerBlock;
+  if (mass.size() < nodes) {
+    mass.resize(nodes), velocity.resize(nodes), velocity_old.resize(nodes);
+  }
+  tbb::parallel_for(size_t(0), block_slot_.size(), [&](size_t blk) {
+    const size_t a = blk * kNodesPerBlock;
+    std::fill(mass.begin() + a, mass.begin() + a + kNodesPerBlock, Real(0));
+    std::fill(velocity.begin() + a, velocity.begin() + a + kNodesPerBlock, Vec<Dim>::Zero());
+    std::fill(velocity_old.begin() + a, velocity_old.begin() + a + kNodesPerBlock,
+              Vec<Dim>::Zero());
+  });
+}
+
+template <int Dim>
+IVec<Dim> SparseGrid<Dim>::node_coord(int node) const {
+  const IVec<Dim> b = slot_coord(block_slot_[node / kNodesPerBlock]);
+  int local = node % kNodesPerBlock;
+  IVec<Dim> g;
+  for (int d = 0; d < Dim; ++d) {
+    g[d] = (b[d] << kLogBlock) + (local & (kBlock - 1)) - kPad;
+    local >>= kLogBlock;
+  }
+  return g;
+}
+
+template <int Dim>
+int SparseGrid<Dim>::node_index(const IVec<Dim>& g) const {
+  IVec<Dim> b;
+  int local = 0;
+  for (int d = Dim - 1; d >= 0; --d) {
+    const int gp = g[d] + kPad;
+    if (gp < 0 || (gp >> kLogBlock) >= n_slots_[d]) return -1;
+    b[d] = gp >> kLogBlock;
+    local = (local << kLogBlock) | (gp & (kBlock - 1));
+  }
+  const int blk = table_[slot_of(b)];
+  return blk < 0 ? -1 : blk * kNodesPerBlock + local;
+}
+
+template <int Dim>
+size_t SparseGrid<Dim>::memory_bytes() const {
+  return table_.size() * (sizeof(int) + sizeof(uint32_t)) +
+         mass.capacity() * (sizeof(Real) + 2 * sizeof(Vec<Dim>)) +
+         order_.capacity() * sizeof(uint32_t) + particle_slot_.capacity() * sizeof(int);
+}
+
+template class SparseGrid<2>;
+template class SparseGrid<3>;
+
+}  // namespace tear

@@ -1,0 +1,178 @@
+// grid/: the sparse block grid (node fields live only in blocks that particles touch),
+// particle binning with block colouring, and boundary conditions on grid velocities.
+// Knows particles only through their positions; never sees materials or solvers.
+#pragma once
+
+#include "tear/kernels/bspline.h"
+#include "tear/math/types.h"
+
+#include <array>
+#include <vector>
+
+namespace tear {
+
+// Nodes sit at domain_min + i dx. They are grouped in blocks of kBlock^Dim nodes (64 in 2D
+// and 3D); a dense table of block slots (4 bytes a slot, one slot per block of the padded
+// domain) maps a block to its node storage, which exists only for active blocks. A block is
+// active when a particle's stencil can reach it.
+//
+// Deterministic parallel scatter: particles are binned by their "home block" (the block of
+// the cubic B-spline base node, floor(x/dx) - 1); every quadratic or cubic stencil of a
+// particle lies in its home block and the +1 neighbours. Home blocks of equal colour
+// (parity of the block coordinates) are two blocks apart, so their writes never overlap:
+// P2G runs one colour at a time, blocks of a colour in parallel, particles of a block in
+// ascending order. The result does not depend on the thread count.
+template <int Dim>
+class SparseGrid {
+ public:
+  static constexpr int kLogBlock = Dim == 2 ? 3 : 2;
+  static constexpr int kBlock = 1 << kLogBlock;
+  static constexpr int kNodesPerBlock = Dim == 2 ? kBlock * kBlock : kBlock * kBlock * kBlock;
+  static constexpr int kPad = kBlock;  // padding nodes below node 0 in the slot table
+  static constexpr int kColours = 1 << Dim;
+
+  struct HomeBlock {
+    int slot;          // slot of the home block
+    uint32_t begin, end;  // range in order()
+  };
+
+  void setup(const Vec3d& domain_min, const Vec3d& domain_max, double dx);
+
+  // Bin particles by home block, activate the blocks their stencils reach, and zero the
+  // node fields of the active blocks. Positions must be inside the domain.
+  void bin(const std::vector<Vec<Dim>>& x);
+
+  double dx() const { return dx_; }
+  const Vec<Dim>& origin() const { return origin_; }
+  const IVec<Dim>& num_nodes() const { return n_nodes_; }  // nodes per axis of the domain
+  int num_blocks() const { return int(block_slot_.size()); }
+  size_t num_active_nodes() const { return block_slot_.size() * kNodesPerBlock; }
+  // Particle indices grouped by home block; within a block in ascending index order.
+  const std::vector<uint32_t>& order() const { return order_; }
+  const std::vector<HomeBlock>& home_blocks() const { return home_blocks_; }
+  const std::vector<int>& colour(int c) const { return colours_[c]; }  // indices into home_blocks()
+  // Home slot of each particle at the last bin() call.
+  const std::vector<int>& particle_slot() const { return particle_slot_; }
+
+  // Unpadded integer coordinates of the node with storage index `node`.
+  IVec<Dim> node_coord(int node) const;
+  Vec<Dim> node_position(int node) const {
+    return origin_ + node_coord(node).template cast<Real>() * Real(dx_);
+  }
+  // Storage index of the active node at unpadded coordinates g, or -1.
+  int node_index(const IVec<Dim>& g) const;
+
+  // The four block ids of a particle's home neighbourhood (2^Dim entries, index bit d set
+  // = +1 block along axis d), and the padded node coordinates of the home block origin.
+  void neighbourhood(const Vec<Dim>& xg, std::array<int, kColours>* ids,
+                     IVec<Dim>* home_origin) const;
+
+  // Bytes held by the table and node fields.
+  size_t memory_bytes() const;
+
+  // Node fields (indexed by storage index).
+  std::vector<Real> mass;
+  std::vector<Vec<Dim>> velocity;      // momentum during P2G, velocity after the grid update
+  std::vector<Vec<Dim>> velocity_old;  // velocity before forces (FLIP)
+
+ private:
+  int slot_of(const IVec<Dim>& b) const {
+    int s = b[Dim - 1];
+    for (int d = Dim - 2; d >= 0; --d) s = s * n_slots_[d] + b[d];
+    return s;
+  }
+  IVec<Dim> slot_coord(int slot) const;
+
+  double dx_ = 1;
+  Vec<Dim> origin_ = Vec<Dim>::Zero();
+  IVec<Dim> n_nodes_ = IVec<Dim>::Zero();
+  IVec<Dim> n_slots_ = IVec<Dim>::Zero();
+  std::vector<int> table_;        // slot -> block id or -1
+  std::vector<int> block_slot_;   // block id -> slot
+  std::vector<uint32_t> counts_;  // per slot particle counts (scratch)
+  std::vector<int> particle_slot_;
+  std::vector<uint32_t> order_;
+  std::vector<HomeBlock> home_blocks_;
+  std::vector<int> colours_[kColours];
+};
+
+// Weights and node indices of one particle's B-spline stencil (Order 2 or 3).
+template <int Dim, int Order>
+struct Stencil {
+  static constexpr int kWidth = Order + 1;
+  static constexpr int kSize = Dim == 2 ? kWidth * kWidth : kWidth * kWidth * kWidth;
+  int node[kSize];
+  Real w[kSize];
+  Vec<Dim> dpos[kSize];    // x_i - x_p (world units)
+  Vec<Dim> grad_w[kSize];  // gradient of N_i at x_p (world units)
+
+  Stencil(const SparseGrid<Dim>& grid, const Vec<Dim>& x);
+};
+
+// ---- inline definitions (hot path) ----
+
+template <int Dim>
+inline void SparseGrid<Dim>::neighbourhood(const Vec<Dim>& xg, std::array<int, kColours>* ids,
+                                    IVec<Dim>* home_origin) const {
+  IVec<Dim> b;
+  for (int d = 0; d < Dim; ++d) {
+    b[d] = (BSpline1D<3>::base_node(xg[d]) + kPad) >> kLogBlock;
+    (*home_origin)[d] = b[d] << kLogBlock;
+  }
+  const int s0 = slot_of(b);
+  int stride[Dim];
+  stride[0] = 1;
+  for (int d = 1; d < Dim; ++d) stride[d] = stride[d - 1] * n_slots_[d - 1];
+  for (int c = 0; c < kColours; ++c) {
+    int s = s0;
+    for (int d = 0; d < Dim; ++d) s += ((c >> d) & 1) * stride[d];
+    (*ids)[c] = table_[s];
+  }
+}
+
+template <int Dim, int Order>
+inline Stencil<Dim, Order>::Stencil(const SparseGrid<Dim>& grid, const Vec<Dim>& x) {
+  using G = SparseGrid<Dim>;
+  const Real inv_dx = Real(1 / grid.dx());
+  const Vec<Dim> xg = (x - grid.origin()) * inv_dx;
+  std::array<int, G::kColours> ids;
+  IVec<Dim> home;
+  grid.neighbourhood(xg, &ids, &home);
+  // Per axis: which neighbour block (bit), the local offset inside it, weights.
+  int bit[Dim][kWidth], local[Dim][kWidth];
+  Real w1[Dim][kWidth], dw1[Dim][kWidth], rel[Dim][kWidth];
+  for (int d = 0; d < Dim; ++d) {
+    const BSpline1D<Order> s(xg[d]);
+    for (int k = 0; k < kWidth; ++k) {
+      const int gp = s.base + k + G::kPad - home[d];  // 0 .. 2 kBlock - 1
+      bit[d][k] = (gp >> G::kLogBlock) << d;
+      local[d][k] = (gp & (G::kBlock - 1)) << (G::kLogBlock * d);
+      w1[d][k] = s.w[k];
+      dw1[d][k] = s.dw[k] * inv_dx;
+      rel[d][k] = (Real(s.base + k) - xg[d]) * Real(grid.dx());
+    }
+  }
+  int q = 0;
+  if constexpr (Dim == 2) {
+    for (int j = 0; j < kWidth; ++j)
+      for (int i = 0; i < kWidth; ++i, ++q) {
+        node[q] = ids[bit[0][i] | bit[1][j]] * G::kNodesPerBlock + local[0][i] + local[1][j];
+        w[q] = w1[0][i] * w1[1][j];
+        dpos[q] = Vec<Dim>(rel[0][i], rel[1][j]);
+        grad_w[q] = Vec<Dim>(dw1[0][i] * w1[1][j], w1[0][i] * dw1[1][j]);
+      }
+  } else {
+    for (int k = 0; k < kWidth; ++k)
+      for (int j = 0; j < kWidth; ++j)
+        for (int i = 0; i < kWidth; ++i, ++q) {
+          node[q] = ids[bit[0][i] | bit[1][j] | bit[2][k]] * G::kNodesPerBlock + local[0][i] +
+                    local[1][j] + local[2][k];
+          w[q] = w1[0][i] * w1[1][j] * w1[2][k];
+          dpos[q] = Vec<Dim>(rel[0][i], rel[1][j], rel[2][k]);
+          grad_w[q] = Vec<Dim>(dw1[0][i] * w1[1][j] * w1[2][k], w1[0][i] * dw1[1][j] * w1[2][k],
+                               w1[0][i] * w1[1][j] * dw1[2][k]);
+        }
+  }
+}
+
+}  // namespace tear

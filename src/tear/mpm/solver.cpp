@@ -1,0 +1,233 @@
+#include "tear/mpm/solver.h"
+
+#include "tear/grid/boundary.h"
+#include "tear/math/parallel.h"
+#include "tear/scene/sampling.h"
+
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+namespace tear {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+// Reorder particles in memory when this fraction changed home block since the last reorder.
+constexpr double kReorderFraction = 0.1;
+// Quadratic B-spline: the MPM transfer kernel (MLS-MPM, Hu et al. 2018).
+constexpr int kOrder = 2;
+}  // namespace
+
+template <int Dim>
+MpmSolver<Dim>::MpmSolver(const Scene& scene) : MpmSolver(scene, sample_scene<Dim>(scene)) {}
+
+template <int Dim>
+MpmSolver<Dim>::MpmSolver(const Scene& scene, Particles<Dim> particles)
+    : scene_(scene), p_(std::move(particles)) {
+  for (const MaterialSpec& m : scene_.materials) mats_.push_back(m.params);
+  gravity_ = scene_.gravity.template head<Dim>().template cast<Real>();
+  grid_.setup(scene_.domain_min, scene_.domain_max, scene_.dx);
+  for (int d = 0; d < Dim; ++d) {
+    lo_[d] = Real(scene_.domain_min[d] + scene_.dx);
+    hi_[d] = Real(scene_.domain_max[d] - scene_.dx);
+  }
+  slot_at_permute_.clear();
+  sort_particles();
+}
+
+template <int Dim>
+void MpmSolver<Dim>::restore(Particles<Dim> particles, std::vector<int> slots_at_reorder,
+                             double time, long steps) {
+  p_ = std::move(particles);
+  slot_at_permute_ = std::move(slots_at_reorder);
+  time_ = time;
+  steps_ = steps;
+}
+
+template <int Dim>
+double MpmSolver<Dim>::estimate_dt() const {
+  const double dx = scene_.dx;
+  double dt = scene_.max_dt;
+  Real c = 0;
+  for (const MaterialParams& m : mats_) c = std::max(c, wave_speed(m));
+  if (c > 0) dt = std::min(dt, scene_.cfl * dx / c);
+  const Real vmax = std::sqrt(parallel_max<Real>(
+      p_.size(), [&](size_t i) { return p_.v[i].squaredNorm(); }, Real(0)));
+  if (vmax > 0) dt = std::min(dt, scene_.cfl * dx / vmax);
+  return dt;
+}
+
+template <int Dim>
+void MpmSolver<Dim>::sort_particles() {
+  grid_.bin(p_.x);
+  const std::vector<int>& slot = grid_.particle_slot();
+  size_t moved = slot.size();
+  if (slot_at_permute_.size() == slot.size()) {
+    moved = deterministic_sum<size_t>(
+        slot.size(), [&](size_t i) { return size_t(slot[i] != slot_at_permute_[i]); });
+  }
+  if (double(moved) > kReorderFraction * double(slot.size())) {
+    p_.permute(grid_.order());
+    grid_.bin(p_.x);
+    slot_at_permute_ = grid_.particle_slot();
+  }
+}
+
+template <int Dim>
+void MpmSolver<Dim>::p2g(Real dt) {
+  const Real inv_d = BSpline1D<kOrder>::kInvD / Real(scene_.dx * scene_.dx);
+  const bool apic = scene_.transfer == Transfer::Apic;
+  const bool flip = scene_.transfer == Transfer::Flip;
+  const auto& order = grid_.order();
+  const auto& homes = grid_.home_blocks();
+  for (int c = 0; c < SparseGrid<Dim>::kColours; ++c) {
+    const std::vector<int>& blocks = grid_.colour(c);
+    tbb::parallel_for(size_t(0), blocks.size(), [&](size_t b) {
+      const auto& h = homes[blocks[b]];
+      for (uint32_t k = h.begin; k < h.end; ++k) {
+        const uint32_t p = order[k];
+        const Mat<Dim>& F = p_.F[p];
+        const MaterialParams& mat = mats_[p_.material[p]];
+        const Mat<Dim> P = first_piola<Dim>(mat, F, p_.fiber[p]);
+        // MLS-MPM: the stress enters as an affine momentum term (Hu et al. 2018, Eq. 29).
+        Mat<Dim> affine = (-dt * p_.vol0[p] * inv_d) * (P * F.transpose());
+        const Real m = p_.mass[p];
+        if (apic) affine += m * p_.C[p];
+        const Vec<Dim> mv = m * p_.v[p];
+        const Stencil<Dim, kOrder> st(grid_, p_.x[p]);
+        for (int q = 0; q < st.kSize; ++q) {
+          const int node = st.node[q];
+          grid_.mass[node] += st.w[q] * m;
+          grid_.velocity[node] += st.w[q] * (mv + affine * st.dpos[q]);
+          if (flip) grid_.velocity_old[node] += st.w[q] * mv;  // force-free momentum
+        }
+      }
+    });
+  }
+}
+
+template <int Dim>
+void MpmSolver<Dim>::grid_update(Real dt) {
+  tbb::parallel_for(0, grid_.num_blocks(), [&](int blk) {
+    const int a = blk * SparseGrid<Dim>::kNodesPerBlock;
+    for (int node = a; node < a + SparseGrid<Dim>::kNodesPerBlock; ++node) {
+      const Real m = grid_.mass[node];
+      if (m <= 0) {
+        grid_.velocity[node].setZero();
+        grid_.velocity_old[node].setZero();
+        continue;
+      }
+      // MLS puts the stress impulse into the momentum already; velocity_old holds the
+      // force-free momentum, so FLIP differences carry stress, gravity and boundaries.
+      grid_.velocity[node] /= m;
+      grid_.velocity_old[node] /= m;
+      grid_.velocity[node] += dt * gravity_;
+    }
+  });
+  apply_boundaries<Dim>(grid_, scene_.walls, scene_.boundaries, time_);
+}
+
+template <int Dim>
+void MpmSolver<Dim>::g2p(Real dt) {
+  const Real inv_d = BSpline1D<kOrder>::kInvD / Real(scene_.dx * scene_.dx);
+  const bool flip = scene_.transfer == Transfer::Flip;
+  const Real ratio = Real(scene_.flip_ratio);
+  tbb::parallel_for(size_t(0), p_.size(), [&](size_t p) {
+    const Stencil<Dim, kOrder> st(grid_, p_.x[p]);
+    Vec<Dim> v = Vec<Dim>::Zero(), v_old = Vec<Dim>::Zero();
+    Mat<Dim> B = Mat<Dim>::Zero();
+    for (int q = 0; q < st.kSize; ++q) {
+      const Vec<Dim>& vi = grid_.velocity[st.node[q]];
+      v += st.w[q] * vi;
+      B += (st.w[q] * vi) * st.dpos[q].transpose();
+      if (flip) v_old += st.w[q] * grid_.velocity_old[st.node[q]];
+    }
+    const Mat<Dim> C = B * inv_d;  // velocity gradient estimate (APIC B D^-1)
+    p_.C[p] = C;
+    p_.F[p] = (Mat<Dim>::Identity() + dt * C) * p_.F[p];
+    p_.v[p] = flip ? Vec<Dim>(ratio * (p_.v[p] + v - v_old) + (1 - ratio) * v) : v;
+    p_.x[p] = (p_.x[p] + dt * v).cwiseMax(lo_).cwiseMin(hi_);
+  });
+}
+
+template <int Dim>
+void MpmSolver<Dim>::step(double dt) {
+  auto t0 = Clock::now();
+  sort_particles();
+  times_.sort += seconds_since(t0);
+  t0 = Clock::now();
+  p2g(Real(dt));
+  times_.p2g += seconds_since(t0);
+  t0 = Clock::now();
+  grid_update(Real(dt));
+  times_.grid += seconds_since(t0);
+  t0 = Clock::now();
+  g2p(Real(dt));
+  times_.g2p += seconds_since(t0);
+  time_ += dt;
+  ++steps_;
+}
+
+template <int Dim>
+double MpmSolver<Dim>::total_mass() const {
+  return deterministic_sum<double>(p_.size(), [&](size_t i) { return double(p_.mass[i]); });
+}
+
+template <int Dim>
+Vec3d MpmSolver<Dim>::momentum() const {
+  return deterministic_sum<Vec3d>(
+      p_.size(),
+      [&](size_t i) {
+        Vec3d m = Vec3d::Zero();
+        m.head<Dim>() = (p_.mass[i] * p_.v[i]).template cast<double>();
+        return m;
+      },
+      Vec3d::Zero());
+}
+
+template <int Dim>
+Vec3d MpmSolver<Dim>::angular_momentum() const {
+  const bool apic = scene_.transfer == Transfer::Apic;
+  const double k = scene_.dx * scene_.dx / BSpline1D<kOrder>::kInvD;  // D = (dx^2 / 4) I
+  return deterministic_sum<Vec3d>(
+      p_.size(),
+      [&](size_t i) {
+        Vec3d x = Vec3d::Zero(), v = Vec3d::Zero();
+        x.head<Dim>() = p_.x[i].template cast<double>();
+        v.head<Dim>() = p_.v[i].template cast<double>();
+        const double m = p_.mass[i];
+        Vec3d L = m * x.cross(v);
+        if (apic) {
+          Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+          C.topLeftCorner<Dim, Dim>() = p_.C[i].template cast<double>();
+          // sum_i w (x_i - x_p) x C (x_i - x_p) = k (C_32 - C_23, C_13 - C_31, C_21 - C_12)
+          L += m * k * Vec3d(C(2, 1) - C(1, 2), C(0, 2) - C(2, 0), C(1, 0) - C(0, 1));
+        }
+        return L;
+      },
+      Vec3d::Zero());
+}
+
+template <int Dim>
+double MpmSolver<Dim>::kinetic_energy() const {
+  return deterministic_sum<double>(
+      p_.size(), [&](size_t i) { return 0.5 * double(p_.mass[i] * p_.v[i].squaredNorm()); });
+}
+
+template <int Dim>
+double MpmSolver<Dim>::elastic_energy() const {
+  return deterministic_sum<double>(p_.size(), [&](size_t i) {
+    return double(p_.vol0[i] *
+                  energy_density<Dim>(mats_[p_.material[i]], p_.F[i], p_.fiber[i]));
+  });
+}
+
+template class MpmSolver<2>;
+template class MpmSolver<3>;
+
+}  // namespace tear

@@ -1,0 +1,113 @@
+#include "tear/grid/boundary.h"
+#include "tear/grid/sparse_grid.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+#include <set>
+
+namespace tear {
+namespace {
+
+template <int Dim>
+std::vector<Vec<Dim>> random_points(int n, double lo, double hi, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(lo, hi);
+  std::vector<Vec<Dim>> x(n);
+  for (auto& p : x)
+    for (int d = 0; d < Dim; ++d) p[d] = Real(u(rng));
+  return x;
+}
+
+template <int Dim>
+void check_binning() {
+  SparseGrid<Dim> g;
+  g.setup(Vec3d::Zero(), Vec3d::Ones(), 1.0 / 64);
+  auto x = random_points<Dim>(5000, 0.3, 0.6, 3);
+  g.bin(x);
+  // order() is a permutation grouped by home block, ascending inside each block.
+  std::vector<int> seen(x.size(), 0);
+  for (auto& h : g.home_blocks())
+    for (uint32_t k = h.begin; k < h.end; ++k) {
+      ++seen[g.order()[k]];
+      EXPECT_EQ(g.particle_slot()[g.order()[k]], h.slot);
+      if (k > h.begin) {
+        EXPECT_LT(g.order()[k - 1], g.order()[k]);
+      }
+    }
+  for (int s : seen) EXPECT_EQ(s, 1);
+  // Every stencil node of every particle is active and maps back to its coordinates.
+  for (const auto& p : x) {
+    const Stencil<Dim, 3> st(g, p);
+    for (int q = 0; q < st.kSize; ++q) {
+      ASSERT_GE(st.node[q], 0);
+      const Vec<Dim> xi = g.node_position(st.node[q]);
+      EXPECT_TRUE((xi - p - st.dpos[q]).norm() < 1e-12);
+      EXPECT_EQ(g.node_index(g.node_coord(st.node[q])), st.node[q]);
+    }
+  }
+  // Same-colour home blocks are at least two blocks apart on some axis.
+  size_t total = 0;
+  for (int c = 0; c < SparseGrid<Dim>::kColours; ++c) total += g.colour(c).size();
+  EXPECT_EQ(total, g.home_blocks().size());
+  // Memory follows the occupied region: far fewer nodes than the dense 65^Dim domain.
+  EXPECT_LT(g.num_active_nodes(), size_t(std::pow(65.0, Dim)) / 2);
+}
+
+TEST(SparseGrid, BinningIsAStableGroupingAndStencilsAreActive2D) { check_binning<2>(); }
+TEST(SparseGrid, BinningIsAStableGroupingAndStencilsAreActive3D) { check_binning<3>(); }
+
+TEST(SparseGrid, StencilWeightsArePartitionOfUnity) {
+  SparseGrid<3> g;
+  g.setup(Vec3d::Zero(), Vec3d::Ones(), 0.05);
+  auto x = random_points<3>(100, 0.2, 0.8, 5);
+  g.bin(x);
+  for (const auto& p : x) {
+    const Stencil<3, 2> st(g, p);
+    double sw = 0;
+    Vec<3> swx = Vec<3>::Zero(), sg = Vec<3>::Zero();
+    for (int q = 0; q < st.kSize; ++q) sw += st.w[q], swx += st.w[q] * st.dpos[q], sg += st.grad_w[q];
+    EXPECT_NEAR(sw, 1, 1e-13);
+    EXPECT_LT(swx.norm(), 1e-13);
+    EXPECT_LT(sg.norm(), 1e-10);
+  }
+}
+
+TEST(Boundary, StickyTakesTheWallVelocity) {
+  const Vec<2> v(1, -2), vw(0.5, 0), n(0, 1);
+  EXPECT_EQ(contact_velocity<2>(v, vw, n, WallType::Sticky, 0), vw);
+}
+
+TEST(Boundary, SlipRemovesNormalRelativeVelocityBothWays) {
+  const Vec<2> n(0, 1);
+  EXPECT_TRUE(contact_velocity<2>(Vec<2>(1, -2), Vec<2>::Zero(), n, WallType::Slip, 0)
+                  .isApprox(Vec<2>(1, 0)));
+  EXPECT_TRUE(contact_velocity<2>(Vec<2>(1, 2), Vec<2>::Zero(), n, WallType::Slip, 0)
+                  .isApprox(Vec<2>(1, 0)));
+}
+
+TEST(Boundary, SeparateOnlyStopsApproachAndFrictionSlowsTangent) {
+  const Vec<2> n(0, 1);
+  EXPECT_EQ(contact_velocity<2>(Vec<2>(1, 2), Vec<2>::Zero(), n, WallType::Separate, 0.5),
+            Vec<2>(1, 2));
+  // |v_t| = 1, |v_n| = 1, mu = 0.5: tangential speed drops to 0.5.
+  EXPECT_TRUE(contact_velocity<2>(Vec<2>(1, -1), Vec<2>::Zero(), n, WallType::Separate, 0.5)
+                  .isApprox(Vec<2>(0.5, 0)));
+  // mu large enough: the tangent stops.
+  EXPECT_TRUE(contact_velocity<2>(Vec<2>(1, -1), Vec<2>::Zero(), n, WallType::Separate, 2)
+                  .isZero());
+}
+
+TEST(Boundary, ColliderMovesOnlyDuringItsWindow) {
+  BoundarySpec b;
+  b.velocity = Vec3d(1, 0, 0);
+  b.start = 1, b.end = 2;
+  EXPECT_FALSE(collider_state(b, 0.5).active);
+  const ColliderState s = collider_state(b, 1.5);
+  EXPECT_TRUE(s.active);
+  EXPECT_TRUE(s.displacement.isApprox(Vec3d(0.5, 0, 0)));
+  EXPECT_FALSE(collider_state(b, 2.5).active);
+}
+
+}  // namespace
+}  // namespace tear
