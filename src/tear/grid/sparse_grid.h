@@ -97,16 +97,33 @@ class SparseGrid {
 };
 
 // Weights and node indices of one particle's B-spline stencil (Order 2 or 3).
-template <int Dim, int Order>
+template <int Dim, int Order, bool kGradients = false>
 struct Stencil {
   static constexpr int kWidth = Order + 1;
   static constexpr int kSize = Dim == 2 ? kWidth * kWidth : kWidth * kWidth * kWidth;
   int node[kSize];
   Real w[kSize];
-  Vec<Dim> dpos[kSize];    // x_i - x_p (world units)
-  Vec<Dim> grad_w[kSize];  // gradient of N_i at x_p (world units)
 
   Stencil(const SparseGrid<Dim>& grid, const Vec<Dim>& x);
+  // x_i - x_p (world units).
+  Vec<Dim> dpos(int q) const { return gather(dpos_, q); }
+  // Gradient of N_i at x_p (world units); only with kGradients.
+  Vec<Dim> grad_w(int q) const {
+    static_assert(kGradients, "Stencil: gradients were not requested");
+    return gather(grad_w_, q);
+  }
+
+ private:
+  // Components are stored axis-major (scalar stores, scalar loads): an array of Vec would be
+  // written as scalars and read back as packed pairs, which defeats store forwarding.
+  Real dpos_[Dim][kSize];
+  Real grad_w_[kGradients ? Dim : 1][kGradients ? kSize : 1];
+  template <class A>
+  static Vec<Dim> gather(const A& a, int q) {
+    Vec<Dim> v;
+    for (int d = 0; d < Dim; ++d) v[d] = a[d][q];
+    return v;
+  }
 };
 
 // ---- inline definitions (hot path) ----
@@ -130,8 +147,8 @@ inline void SparseGrid<Dim>::neighbourhood(const Vec<Dim>& xg, std::array<int, k
   }
 }
 
-template <int Dim, int Order>
-inline Stencil<Dim, Order>::Stencil(const SparseGrid<Dim>& grid, const Vec<Dim>& x) {
+template <int Dim, int Order, bool kGradients>
+inline Stencil<Dim, Order, kGradients>::Stencil(const SparseGrid<Dim>& grid, const Vec<Dim>& x) {
   using G = SparseGrid<Dim>;
   const Real inv_dx = Real(1 / grid.dx());
   const Vec<Dim> xg = (x - grid.origin()) * inv_dx;
@@ -158,8 +175,11 @@ inline Stencil<Dim, Order>::Stencil(const SparseGrid<Dim>& grid, const Vec<Dim>&
       for (int i = 0; i < kWidth; ++i, ++q) {
         node[q] = ids[bit[0][i] | bit[1][j]] * G::kNodesPerBlock + local[0][i] + local[1][j];
         w[q] = w1[0][i] * w1[1][j];
-        dpos[q] = Vec<Dim>(rel[0][i], rel[1][j]);
-        grad_w[q] = Vec<Dim>(dw1[0][i] * w1[1][j], w1[0][i] * dw1[1][j]);
+        dpos_[0][q] = rel[0][i], dpos_[1][q] = rel[1][j];
+        if constexpr (kGradients) {
+          grad_w_[0][q] = dw1[0][i] * w1[1][j];
+          grad_w_[1][q] = w1[0][i] * dw1[1][j];
+        }
       }
   } else {
     for (int k = 0; k < kWidth; ++k)
@@ -168,9 +188,12 @@ inline Stencil<Dim, Order>::Stencil(const SparseGrid<Dim>& grid, const Vec<Dim>&
           node[q] = ids[bit[0][i] | bit[1][j] | bit[2][k]] * G::kNodesPerBlock + local[0][i] +
                     local[1][j] + local[2][k];
           w[q] = w1[0][i] * w1[1][j] * w1[2][k];
-          dpos[q] = Vec<Dim>(rel[0][i], rel[1][j], rel[2][k]);
-          grad_w[q] = Vec<Dim>(dw1[0][i] * w1[1][j] * w1[2][k], w1[0][i] * dw1[1][j] * w1[2][k],
-                               w1[0][i] * w1[1][j] * dw1[2][k]);
+          dpos_[0][q] = rel[0][i], dpos_[1][q] = rel[1][j], dpos_[2][q] = rel[2][k];
+          if constexpr (kGradients) {
+            grad_w_[0][q] = dw1[0][i] * w1[1][j] * w1[2][k];
+            grad_w_[1][q] = w1[0][i] * dw1[1][j] * w1[2][k];
+            grad_w_[2][q] = w1[0][i] * w1[1][j] * dw1[2][k];
+          }
         }
   }
 }

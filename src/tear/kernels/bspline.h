@@ -8,6 +8,12 @@
 
 namespace tear {
 
+// floor(x) as an int without a libm call (std::floor is out of line without SSE4.1).
+inline int floor_int(Real x) {
+  const int i = int(x);
+  return i - int(x < Real(i));
+}
+
 // 1-D B-spline of order `Order` (1 linear, 2 quadratic, 3 cubic) evaluated at a particle.
 // `x` is the particle coordinate in grid units (position / dx, relative to node 0).
 // Nodes base .. base + Order receive weights w[k]; dw and ddw are derivatives with respect
@@ -23,9 +29,9 @@ struct BSpline1D {
   static constexpr Real kInvD = Order == 2 ? Real(4) : Order == 3 ? Real(3) : Real(0);
 
   static int base_node(Real x) {
-    if constexpr (Order == 1) return int(std::floor(x));
-    else if constexpr (Order == 2) return int(std::floor(x - Real(0.5)));
-    else return int(std::floor(x)) - 1;
+    if constexpr (Order == 1) return floor_int(x);
+    else if constexpr (Order == 2) return floor_int(x - Real(0.5));
+    else return floor_int(x) - 1;
   }
 
   explicit BSpline1D(Real x) {

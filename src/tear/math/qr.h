@@ -16,17 +16,58 @@ template <int Dim>
 inline void givens_zero(Mat<Dim>& R, Mat<Dim>& Q, int i, int k, int col) {
   const Real a = R(i, col), b = R(k, col);
   if (b == Real(0)) return;
-  const Real h = std::sqrt(a * a + b * b);
-  const Real c = a / h, s = b / h;
-  for (int j = 0; j < Dim; ++j) {
+  const Real inv = 1 / std::sqrt(a * a + b * b);
+  const Real c = a * inv, s = b * inv;
+  for (int j = col; j < Dim; ++j) {  // columns left of `col` are already zero in both rows
     const Real ri = R(i, j), rk = R(k, j);
     R(i, j) = c * ri + s * rk;
     R(k, j) = -s * ri + c * rk;
+  }
+  for (int j = 0; j < Dim; ++j) {
     const Real qi = Q(j, i), qk = Q(j, k);
     Q(j, i) = c * qi + s * qk;
     Q(j, k) = -s * qi + c * qk;
   }
   R(k, col) = 0;
+}
+
+// The three Givens rotations of a 3x3 QR, unrolled on scalars: (rows 1,2 | col 0), then
+// (rows 0,1 | col 0), then (rows 1,2 | col 1). Each rotation is the identity when the entry to
+// eliminate is already zero.
+inline void rotation(Real a, Real b, Real* c, Real* s) {
+  if (b == Real(0)) {
+    *c = 1, *s = 0;
+    return;
+  }
+  const Real inv = 1 / std::sqrt(a * a + b * b);
+  *c = a * inv, *s = b * inv;
+}
+
+inline void givens_qr3(const Mat<3>& A, Mat<3>* Q, Mat<3>* R) {
+  Real c1, s1, c2, s2, c3, s3;
+  // Rows 1, 2 on column 0.
+  rotation(A(1, 0), A(2, 0), &c1, &s1);
+  const Real b10 = c1 * A(1, 0) + s1 * A(2, 0);
+  const Real b11 = c1 * A(1, 1) + s1 * A(2, 1), b21 = -s1 * A(1, 1) + c1 * A(2, 1);
+  const Real b12 = c1 * A(1, 2) + s1 * A(2, 2), b22 = -s1 * A(1, 2) + c1 * A(2, 2);
+  // Rows 0, 1 on column 0.
+  rotation(A(0, 0), b10, &c2, &s2);
+  const Real r11 = c2 * A(0, 0) + s2 * b10;
+  const Real r12 = c2 * A(0, 1) + s2 * b11, d11 = -s2 * A(0, 1) + c2 * b11;
+  const Real r13 = c2 * A(0, 2) + s2 * b12, d12 = -s2 * A(0, 2) + c2 * b12;
+  // Rows 1, 2 on column 1.
+  rotation(d11, b21, &c3, &s3);
+  const Real r22 = c3 * d11 + s3 * b21;
+  const Real r23 = c3 * d12 + s3 * b22, r33 = -s3 * d12 + c3 * b22;
+  *R << r11, r12, r13, 0, r22, r23, 0, 0, r33;
+  // Q = G1^T G2^T G3^T, where Gk rotates the rows it names.
+  const Real q00 = c2, q01 = -s2 * c3, q02 = s2 * s3;  // row 0 of G2^T G3^T
+  // Rows 1 and 2 of G2^T G3^T, then G1^T mixes them.
+  const Real m10 = s2, m11 = c2 * c3, m12 = -c2 * s3;  // row 1 of G2^T G3^T
+  const Real m20 = 0, m21 = s3, m22 = c3;              // row 2 of G2^T G3^T
+  *Q << q00, q01, q02,                                  //
+      c1 * m10 - s1 * m20, c1 * m11 - s1 * m21, c1 * m12 - s1 * m22,  //
+      s1 * m10 + c1 * m20, s1 * m11 + c1 * m21, s1 * m12 + c1 * m22;
 }
 
 }  // namespace qr_detail
@@ -38,14 +79,12 @@ inline void givens_zero(Mat<Dim>& R, Mat<Dim>& Q, int i, int k, int col) {
 template <int Dim>
 inline void qr_decompose(const Mat<Dim>& A, Mat<Dim>* Q, Mat<Dim>* R) {
   static_assert(Dim == 2 || Dim == 3, "qr_decompose: 2D or 3D");
-  *R = A;
-  Q->setIdentity();
   if constexpr (Dim == 2) {
+    *R = A;
+    Q->setIdentity();
     qr_detail::givens_zero<2>(*R, *Q, 0, 1, 0);
   } else {
-    qr_detail::givens_zero<3>(*R, *Q, 1, 2, 0);
-    qr_detail::givens_zero<3>(*R, *Q, 0, 1, 0);
-    qr_detail::givens_zero<3>(*R, *Q, 1, 2, 1);
+    qr_detail::givens_qr3(A, Q, R);
   }
   // Givens leaves r11 >= 0 (and r22 >= 0 in 3D) except when the pair it rotated was zero
   // and the entry was already negative; flip pairs of rows/columns so Q stays a rotation.

@@ -103,7 +103,11 @@ void MpmSolver<Dim>::p2g(Real dt) {
         for (int q = 0; q < st.kSize; ++q) {
           const int node = st.node[q];
           grid_.mass[node] += st.w[q] * m;
-          grid_.velocity[node] += st.w[q] * (mv + affine * st.dpos[q]);
+          // mv + affine (x_i - x_p), column by column: Eigen's product temporaries here
+          // cost store-forwarding stalls.
+          Vec<Dim> dv = mv;
+          for (int c = 0; c < Dim; ++c) dv += affine.col(c) * st.dpos(q)[c];
+          grid_.velocity[node] += st.w[q] * dv;
           if (flip) grid_.velocity_old[node] += st.w[q] * mv;  // force-free momentum
         }
       }
@@ -143,8 +147,9 @@ void MpmSolver<Dim>::g2p(Real dt) {
     Mat<Dim> B = Mat<Dim>::Zero();
     for (int q = 0; q < st.kSize; ++q) {
       const Vec<Dim>& vi = grid_.velocity[st.node[q]];
-      v += st.w[q] * vi;
-      B += (st.w[q] * vi) * st.dpos[q].transpose();
+      const Vec<Dim> wv = st.w[q] * vi;
+      v += wv;
+      for (int c = 0; c < Dim; ++c) B.col(c) += wv * st.dpos(q)[c];  // B += wv dpos^T
       if (flip) v_old += st.w[q] * grid_.velocity_old[st.node[q]];
     }
     const Mat<Dim> C = B * inv_d;  // velocity gradient estimate (APIC B D^-1)
