@@ -1,0 +1,145 @@
+#include "tear/io/atomic_file.h"
+#include "tear/io/binary.h"
+#include "tear/io/ply.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <random>
+
+namespace tear {
+namespace {
+
+namespace fs = std::filesystem;
+
+class TempDir {
+ public:
+  TempDir() {
+    std::random_device rd;
+    path_ = fs::temp_directory_path() / ("tear_io_test_" + std::to_string(rd()));
+    fs::create_directories(path_);
+  }
+  ~TempDir() { fs::remove_all(path_); }
+  std::string file(const std::string& name) const { return (path_ / name).string(); }
+  size_t entries() const {
+    return size_t(std::distance(fs::directory_iterator(path_), fs::directory_iterator()));
+  }
+
+ private:
+  fs::path path_;
+};
+
+PlyTable sample_table() {
+  PlyTable t;
+  t.count = 3;
+  t.add("id", PlyType::Int32, {0, -7, 2147483647});
+  t.add("x", PlyType::Float32, {0.1, -2.5, 1e10});
+  t.add("m", PlyType::UInt8, {0, 255, 17});
+  t.add("d", PlyType::Float64, {0.1, -1e-300, 3.25});
+  return t;
+}
+
+TEST(Ply, HeaderIsExact) {
+  const std::string bytes = encode_ply(sample_table());
+  const std::string header =
+      "ply\nformat binary_little_endian 1.0\ncomment written by tear\nelement vertex 3\n"
+      "property int id\nproperty float x\nproperty uchar m\nproperty double d\nend_header\n";
+  ASSERT_EQ(bytes.substr(0, header.size()), header);
+  EXPECT_EQ(bytes.size(), header.size() + 3 * (4 + 4 + 1 + 8));
+}
+
+TEST(Ply, RoundTripKeepsEveryType) {
+  const PlyTable t = decode_ply(encode_ply(sample_table()));
+  ASSERT_EQ(t.count, 3u);
+  EXPECT_EQ(t.names, (std::vector<std::string>{"id", "x", "m", "d"}));
+  EXPECT_EQ(t.column("id"), (std::vector<double>{0, -7, 2147483647}));
+  EXPECT_EQ(t.column("x")[0], double(0.1f));  // float32 rounding
+  EXPECT_EQ(t.column("x")[2], double(1e10f));
+  EXPECT_EQ(t.column("m"), (std::vector<double>{0, 255, 17}));
+  EXPECT_EQ(t.column("d"), (std::vector<double>{0.1, -1e-300, 3.25}));
+  EXPECT_EQ(t.types[2], PlyType::UInt8);
+}
+
+TEST(Ply, ReadsAscii) {
+  const std::string text =
+      "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty int32 n\n"
+      "element face 0\nproperty list uchar int vertex_indices\nend_header\n1.5 3\n-2 4\n";
+  const PlyTable t = decode_ply(text);
+  EXPECT_EQ(t.column("x"), (std::vector<double>{1.5, -2}));
+  EXPECT_EQ(t.column("n"), (std::vector<double>{3, 4}));
+}
+
+TEST(Ply, RejectsMalformedInput) {
+  const std::string good = encode_ply(sample_table());
+  auto message = [](const std::string& bytes) {
+    try {
+      decode_ply(bytes);
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message(good.substr(0, good.size() - 1)).find("truncated"), std::string::npos);
+  EXPECT_NE(message("PLY\n").find("does not start"), std::string::npos);
+  EXPECT_NE(message("ply\nformat ascii 1.0\nelement vertex 1\n").find("end_header"),
+            std::string::npos);
+  EXPECT_NE(message("ply\nformat binary_big_endian 1.0\nelement vertex 0\nend_header\n")
+                .find("unsupported format"),
+            std::string::npos);
+  EXPECT_NE(message("ply\nformat ascii 1.0\nelement vertex 1\nproperty list uchar int i\n"
+                    "end_header\n")
+                .find("list"),
+            std::string::npos);
+  EXPECT_NE(message("ply\nformat ascii 1.0\nelement vertex 1\nproperty quad x\nend_header\n1\n")
+                .find("unknown property type"),
+            std::string::npos);
+  EXPECT_THROW(sample_table().column("nope"), std::runtime_error);
+  PlyTable t;
+  t.count = 2;
+  EXPECT_THROW(t.add("x", PlyType::Float32, {1}), std::runtime_error);
+}
+
+TEST(AtomicFile, ReplacesContentAndLeavesNoTemporary) {
+  TempDir dir;
+  const std::string path = dir.file("a.txt");
+  write_file_atomic(path, "first");
+  write_file_atomic(path, "second");
+  EXPECT_EQ(read_file(path), "second");
+  EXPECT_EQ(dir.entries(), 1u);
+  write_lines_atomic(dir.file("s.jsonl"), {"{\"a\":1}", "{\"a\":2}"});
+  EXPECT_EQ(read_file(dir.file("s.jsonl")), "{\"a\":1}\n{\"a\":2}\n");
+}
+
+TEST(AtomicFile, ErrorsNameThePath) {
+  TempDir dir;
+  const std::string missing = dir.file("no/such/folder/f.bin");
+  try {
+    write_file_atomic(missing, "x");
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(missing), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(read_file(dir.file("absent")), std::runtime_error);
+  make_directories(dir.file("x/y/z"));
+  EXPECT_TRUE(fs::is_directory(dir.file("x/y/z")));
+}
+
+TEST(Binary, RoundTripAndTruncation) {
+  ByteWriter w;
+  w.put<int32_t>(-5);
+  w.put_vector(std::vector<double>{1.5, 2.5});
+  const std::string bytes = w.bytes();
+  ByteReader r(bytes);
+  EXPECT_EQ(r.get<int32_t>(), -5);
+  std::vector<double> v;
+  r.get_vector(&v);
+  EXPECT_EQ(v, (std::vector<double>{1.5, 2.5}));
+  EXPECT_TRUE(r.at_end());
+  const std::string cut = bytes.substr(0, bytes.size() - 1);
+  ByteReader r2(cut);
+  r2.get<int32_t>();
+  EXPECT_THROW(r2.get_vector(&v), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace tear
