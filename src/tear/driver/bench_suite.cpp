@@ -1,0 +1,102 @@
+#include "tear/driver/bench_suite.h"
+
+#include "tear/mpm/solver.h"
+
+#include <tbb/global_control.h>
+
+#include <chrono>
+#include <cmath>
+#include <random>
+
+namespace tear {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+}  // namespace
+
+nlohmann::json bench_stress(long evaluations) {
+  constexpr int kPool = 1 << 16;
+  std::mt19937_64 rng(1);
+  std::normal_distribution<double> n01(0, 0.3);
+  std::vector<Mat<3>> F(kPool), D(kPool);
+  for (int i = 0; i < kPool; ++i) {
+    Mat<3> A;
+    for (int k = 0; k < 9; ++k) A.data()[k] = Real(n01(rng));
+    F[i] = Mat<3>::Identity() + A;
+    const Vec<3> axis = Vec<3>(Real(n01(rng)), Real(n01(rng)), Real(n01(rng))).normalized();
+    D[i] = Eigen::AngleAxis<Real>(Real(n01(rng)), axis).toRotationMatrix();
+  }
+  nlohmann::json out;
+  double ns[2] = {0, 0};
+  const Model models[2] = {Model::QrAniso, Model::FixedCorotated};
+  for (int m = 0; m < 2; ++m) {
+    const MaterialParams mat = make_material(models[m], 1e4, 0.3, 1, 2, 1);
+    double checksum = 0;
+    const auto t0 = Clock::now();
+    for (long e = 0; e < evaluations; ++e) {
+      const int i = int(e & (kPool - 1));
+      checksum += first_piola<3>(mat, F[i], D[i])(0, 0);
+    }
+    ns[m] = since(t0) * 1e9 / double(evaluations);
+    out[model_name(models[m])] = {{"ns_per_stress", ns[m]}, {"checksum", checksum}};
+  }
+  out["evaluations"] = evaluations;
+  out["speedup_qr_over_fixed_corotated"] = ns[1] / ns[0];
+  return out;
+}
+
+nlohmann::json bench_step(long particles, int steps, int threads) {
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+  Scene s;
+  s.name = "bench_block";
+  s.dim = 3;
+  s.dx = 1.0 / 64;
+  s.domain_min = Vec3d::Zero();
+  s.domain_max = Vec3d::Ones();
+  s.walls = WallType::Separate;
+  s.gravity = Vec3d(0, -9.8, 0);
+  s.max_dt = 1e-3;
+  MaterialSpec m;
+  m.name = "block";
+  m.params = make_material(Model::QrAniso, 1e4, 0.3, 1, 2, 1);
+  s.materials.push_back(m);
+  ObjectSpec o;
+  o.ppc = 8;
+  o.grid_sampling = true;
+  o.shape.type = Shape::Type::Box;
+  o.shape.dim = 3;
+  const double side = std::cbrt(double(particles) / 8) * s.dx;
+  o.shape.min = Vec3d::Constant(0.5 - side / 2);
+  o.shape.max = Vec3d::Constant(0.5 + side / 2);
+  o.angular_velocity = Vec3d(0, 0, 1);
+  o.fibers.a1 = Vec3d(1, 1, 0).normalized();
+  s.objects.push_back(o);
+
+  MpmSolver<3> sim(s);
+  const double dt = 2e-4;
+  sim.step(dt);  // warm-up: first binning, allocation
+  const PhaseTimes before = sim.phase_times();
+  const auto t0 = Clock::now();
+  for (int i = 0; i < steps; ++i) sim.step(dt);
+  const double wall = since(t0);
+  const PhaseTimes& after = sim.phase_times();
+  const double n = double(sim.particles().size());
+  nlohmann::json phases = {{"sort", after.sort - before.sort}, {"p2g", after.p2g - before.p2g},
+                           {"grid", after.grid - before.grid}, {"g2p", after.g2p - before.g2p}};
+  const size_t bytes = sim.particles().size() * Particles<3>::bytes_per_particle() +
+                       sim.grid().memory_bytes();
+  return {{"threads", threads},
+          {"particles", long(n)},
+          {"steps", steps},
+          {"wall_s", wall},
+          {"particle_steps_per_s", n * steps / wall},
+          {"particle_steps_per_s_per_thread", n * steps / wall / threads},
+          {"phase_s", phases},
+          {"active_grid_nodes", sim.grid().num_active_nodes()},
+          {"bytes_per_particle", double(bytes) / n}};
+}
+
+}  // namespace tear

@@ -1,0 +1,252 @@
+#include "tear/driver/run.h"
+
+#include "tear/io/atomic_file.h"
+#include "tear/mpm/simulation.h"
+#include "tear/scene/scene.h"
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+#include <tbb/version.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include <unistd.h>
+
+namespace tear {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+std::string frame_path(const std::string& dir, int frame) {
+  char name[32];
+  std::snprintf(name, sizeof(name), "%05d.ply", frame);
+  return (fs::path(dir) / "frames" / name).string();
+}
+
+std::string clock_text(double seconds) {
+  if (!std::isfinite(seconds) || seconds < 0) return "--:--";
+  const long s = std::lround(seconds);
+  char buf[32];
+  if (s >= 3600)
+    std::snprintf(buf, sizeof(buf), "%ld:%02ld:%02ld", s / 3600, (s / 60) % 60, s % 60);
+  else
+    std::snprintf(buf, sizeof(buf), "%ld:%02ld", s / 60, s % 60);
+  return buf;
+}
+
+// One status line on stderr: rewritten in place on a terminal, printed every ~5% otherwise.
+class Progress {
+ public:
+  Progress(bool enabled, int total_frames, int first_frame)
+      : enabled_(enabled),
+        tty_(::isatty(STDERR_FILENO) != 0),
+        total_(total_frames),
+        first_(first_frame),
+        start_(Clock::now()) {}
+
+  void update(int frame, double sim_time, long steps_done) {
+    if (!enabled_) return;
+    const double wall = std::chrono::duration<double>(Clock::now() - start_).count();
+    const int done = frame - first_;
+    const double eta = done > 0 ? wall / done * (total_ - frame) : NAN;
+    const double rate = wall > 0 ? double(steps_done) / wall : 0;
+    const int width = 24, filled = total_ > 0 ? width * frame / total_ : width;
+    char line[256];
+    std::snprintf(line, sizeof(line), "[%.*s%.*s] frame %d/%d  t=%.4gs  %.0f steps/s  ETA %s",
+                  filled, "########################", width - filled,
+                  "                        ", frame, total_, sim_time, rate,
+                  clock_text(eta).c_str());
+    if (tty_) {
+      std::fprintf(stderr, "\r%s\033[K", line);
+      if (frame == total_) std::fputc('\n', stderr);
+    } else {
+      const int step = std::max(1, total_ / 20);
+      if (frame == total_ || frame % step == 0) std::fprintf(stderr, "%s\n", line);
+    }
+    std::fflush(stderr);
+  }
+
+ private:
+  bool enabled_, tty_;
+  int total_, first_;
+  Clock::time_point start_;
+};
+
+Scene load(const std::string& path, std::vector<std::string> overrides, int frames) {
+  if (frames >= 0) overrides.push_back("time.frames=" + std::to_string(frames));
+  return load_scene(path, overrides);
+}
+
+nlohmann::json without_frames(nlohmann::json j) {
+  if (j.contains("time") && j["time"].is_object()) j["time"].erase("frames");
+  return j;
+}
+
+// The stats lines of an earlier run up to and including `frame`.
+std::vector<std::string> stats_up_to(const std::string& path, int frame) {
+  std::vector<std::string> kept;
+  std::istringstream in(read_file(path));
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    if (nlohmann::json::parse(line).at("frame").get<int>() <= frame) kept.push_back(line);
+  }
+  return kept;
+}
+
+int fail(const std::string& why) {
+  std::fprintf(stderr, "tear: %s\n", why.c_str());
+  return 1;
+}
+
+}  // namespace
+
+int run_scene(const RunOptions& o) {
+  try {
+    std::unique_ptr<tbb::global_control> limit;
+    if (o.threads > 0)
+      limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                    size_t(o.threads));
+    const Clock::time_point start = Clock::now();
+    // Everything that can be wrong with the input is found before anything is written.
+    const Scene scene = load(o.scene_path, o.overrides, o.frames);
+    std::unique_ptr<Simulation> sim = make_simulation(scene);
+    const fs::path dir(o.out_dir);
+    const std::string stats_path = (dir / "stats.jsonl").string();
+    const std::string checkpoint_path = (dir / "checkpoints" / "latest.bin").string();
+    std::vector<std::string> stats;
+
+    if (o.resume) {
+      const std::string old_scene = (dir / "scene.json").string();
+      if (!fs::exists(old_scene)) return fail(old_scene + ": no earlier run to resume");
+      if (without_frames(nlohmann::json::parse(read_file(old_scene))) !=
+          without_frames(scene.resolved))
+        return fail(old_scene + ": scene differs from " + o.scene_path +
+                    " (only time.frames may change); run without --resume into a fresh folder");
+      try {
+        sim->decode_checkpoint(read_file(checkpoint_path));
+      } catch (const std::exception& e) {
+        return fail(checkpoint_path + ": " + e.what());
+      }
+      stats = stats_up_to(stats_path, sim->frame());
+      write_file_atomic(old_scene, scene.resolved.dump(2) + "\n");
+      if (sim->frame() >= scene.frames) {
+        std::printf("%s: already complete (%d frames)\n", o.out_dir.c_str(), sim->frame());
+        return 0;
+      }
+      if (!o.quiet)
+        std::fprintf(stderr, "resuming %s at frame %d (t = %g s)\n", o.out_dir.c_str(),
+                     sim->frame(), sim->time());
+    } else {
+      // A fresh run owns scene.json, stats.jsonl, frames/ and checkpoints/ in the folder.
+      fs::remove_all(dir / "frames");
+      fs::remove_all(dir / "checkpoints");
+      make_directories((dir / "frames").string());
+      write_file_atomic((dir / "scene.json").string(), scene.resolved.dump(2) + "\n");
+      write_file_atomic(frame_path(o.out_dir, 0), sim->encode_ply());
+      FrameStats s = sim->collect_stats();
+      stats.push_back(s.to_json().dump());
+      write_lines_atomic(stats_path, stats);
+    }
+    make_directories((dir / "checkpoints").string());
+
+    Progress progress(!o.quiet, scene.frames, sim->frame());
+    const long steps_before = sim->total_steps();
+    while (sim->frame() < scene.frames) {
+      sim->advance_frame();
+      const int frame = sim->frame();
+      FrameStats s = sim->collect_stats();
+      s.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
+      if (!std::isfinite(s.kinetic_energy) || !std::isfinite(s.momentum.norm()))
+        return fail("the simulation became unstable at frame " + std::to_string(frame) +
+                    " (non-finite velocities); lower time.cfl or time.max_dt");
+      if (frame % scene.output_every == 0 || frame == scene.frames)
+        write_file_atomic(frame_path(o.out_dir, frame), sim->encode_ply());
+      stats.push_back(s.to_json().dump());
+      write_lines_atomic(stats_path, stats);
+      if ((scene.checkpoint_every > 0 && frame % scene.checkpoint_every == 0) ||
+          frame == scene.frames)
+        write_file_atomic(checkpoint_path, sim->encode_checkpoint());
+      progress.update(frame, sim->time(), sim->total_steps() - steps_before);
+    }
+    const double wall = std::chrono::duration<double>(Clock::now() - start).count();
+    std::printf("wrote %d frames (%zu particles, %ld steps) to %s in %.1f s\n", scene.frames,
+                sim->num_particles(), sim->total_steps(), o.out_dir.c_str(), wall);
+    return 0;
+  } catch (const std::exception& e) {
+    return fail(e.what());
+  }
+}
+
+int check_scene(const std::string& scene_path, const std::vector<std::string>& overrides,
+                std::ostream& out) {
+  try {
+    const Scene s = load_scene(scene_path, overrides);
+    std::unique_ptr<Simulation> sim = make_simulation(s);
+    out << "scene      " << scene_path << " (\"" << s.name << "\", " << s.dim << "D)\n";
+    out << "grid       dx " << s.dx << ", domain [" << s.domain_min.head(s.dim).transpose()
+        << "] .. [" << s.domain_max.head(s.dim).transpose() << "], cells";
+    for (int d = 0; d < s.dim; ++d)
+      out << (d ? " x " : " ") << std::lround((s.domain_max[d] - s.domain_min[d]) / s.dx);
+    out << "\n";
+    for (const MaterialSpec& m : s.materials) {
+      const MaterialParams& p = m.params;
+      out << "material   " << m.name << ": " << model_name(p.model) << ", E " << p.E << ", nu "
+          << p.nu << ", rho " << p.rho << " -> mu " << p.mu << ", lambda " << p.lambda;
+      if (p.kx != 0 || p.ky != 0) out << ", kx " << p.kx << ", ky " << p.ky;
+      out << ", wave speed " << wave_speed(p) << "\n";
+    }
+    for (const ObjectSpec& ob : s.objects) {
+      out << "object     " << s.resolved["objects"][&ob - s.objects.data()]["shape"]["type"]
+                                .get<std::string>()
+          << ", material " << s.materials[size_t(ob.material)].name << ", " << ob.ppc
+          << " particles per cell" << (ob.grid_sampling ? " (lattice)" : "") << "\n";
+    }
+    out << "boundaries " << s.boundaries.size() << " collider(s), walls "
+        << s.resolved["grid"]["walls"].get<std::string>() << "\n";
+    const double dt = sim->estimate_dt();
+    const std::string ply = sim->encode_ply();
+    const int written = s.frames / s.output_every + 1;
+    out << "particles  " << sim->num_particles() << "\n";
+    out << "time       " << s.frames << " frames of " << s.frame_dt << " s; dt " << dt
+        << " s at rest (about " << std::lround(std::ceil(s.frame_dt / dt))
+        << " steps per frame)\n";
+    out << "memory     about " << (sim->memory_bytes() >> 20) << " MiB\n";
+    out << "output     " << written << " frames of " << (ply.size() >> 10) << " KiB ("
+        << ((double(ply.size()) * written) / (1 << 20)) << " MiB)\n";
+    return 0;
+  } catch (const std::exception& e) {
+    return fail(e.what());
+  }
+}
+
+void print_info(std::ostream& out) {
+  out << "tear " << TEAR_VERSION << "\n";
+#ifdef TEAR_FLOAT
+  out << "precision   float\n";
+#else
+  out << "precision   double\n";
+#endif
+#ifdef TEAR_ENABLE_ASSERTS
+  out << "asserts     on\n";
+#else
+  out << "asserts     off\n";
+#endif
+  out << "compiler    " << __VERSION__ << "\n";
+  out << "eigen       " << EIGEN_WORLD_VERSION << "." << EIGEN_MAJOR_VERSION << "."
+      << EIGEN_MINOR_VERSION << "\n";
+  out << "onetbb      " << TBB_VERSION_MAJOR << "." << TBB_VERSION_MINOR << "\n";
+  out << "threads     " << tbb::info::default_concurrency() << " available\n";
+}
+
+}  // namespace tear
