@@ -28,6 +28,24 @@ class SceneError : public std::runtime_error {
 enum class Transfer { Apic, Pic, Flip };
 enum class WallType { Sticky, Slip, Separate, None };
 enum class FiberField { Constant, Radial, Circumferential, Longitudinal, Random };
+enum class DamageSolver { None, Explicit, Implicit };
+
+// Scene-wide phase-field damage settings ("damage" section).
+struct DamageSolverSpec {
+  DamageSolver solver = DamageSolver::None;
+  double l0 = 0;                       // length scale; the scene's null resolves to 0.5 dx
+  double zeta = 1;                     // slope of the driving force
+  Transfer transfer = Transfer::Flip;  // implicit damage back to particles: Flip or Pic only
+};
+
+// Per-material damage parameters ("materials.NAME.damage"); enabled = false when omitted/null.
+struct DamageSpec {
+  bool enabled = false;
+  double sigma_c = 0;          // critical stress
+  double eta = 0;              // mobility
+  double residual = 0;         // stiffness left at d = 1, in [0, 1)
+  double alpha[2] = {0, 0};    // structural-tensor weights of a1, a2, in [-1, 0]
+};
 
 struct FiberSpec {
   FiberField type = FiberField::Constant;
@@ -42,6 +60,8 @@ struct MaterialSpec {
   std::string name;
   MaterialParams params;
   Real fiber_scale[2] = {0, 0};
+  DamageSpec damage;
+  bool inextensible = false;  // only false is accepted for now
 };
 
 struct ObjectSpec {
@@ -80,6 +100,7 @@ struct Scene {
   Vec3d gravity = Vec3d::Zero();
   Transfer transfer = Transfer::Apic;
   double flip_ratio = 0.95;
+  DamageSolverSpec damage;
   std::vector<MaterialSpec> materials;
   std::vector<ObjectSpec> objects;
   std::vector<BoundarySpec> boundaries;

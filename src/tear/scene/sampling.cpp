@@ -1,0 +1,200 @@
+// Sampling objects into particles and evaluating fiber fields (SCENE_FORMAT.md "objects").
+// Randomness comes from a counter-based hash of (seed, object, cell) so the result does not
+// depend on iteration order, thread count or the standard library.
+#include "tear/scene/sampling.h"
+
+#include "tear/scene/scene_parts.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace tear {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+uint64_t splitmix64(uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+
+uint64_t hash_combine(uint64_t h, uint64_t v) { return splitmix64(h ^ splitmix64(v)); }
+
+// splitmix64 stream; uniform() is in [0, 1) with 53 random bits.
+struct Rng {
+  uint64_t state;
+  explicit Rng(uint64_t key) : state(key) {}
+  uint64_t next() {
+    state += 0x9E3779B97F4A7C15ull;
+    uint64_t z = state;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  }
+  double uniform() { return double(next() >> 11) * 0x1.0p-53; }
+};
+
+// Any unit vector orthogonal to unit a (3D): Gram-Schmidt of the least aligned coordinate axis.
+Vec3d any_orthogonal(const Vec3d& a) {
+  int i = 0;
+  a.cwiseAbs().minCoeff(&i);
+  Vec3d e = Vec3d::Unit(i);
+  return (e - e.dot(a) * a).normalized();
+}
+
+// Unit radial direction of p from the fiber centre (3D: perpendicular to the axis);
+// false at the centre/axis where it is undefined.
+bool radial_dir(const FiberSpec& f, const Vec3d& p, int dim, Vec3d* out) {
+  Vec3d d = p - f.center;
+  if (dim == 2) {
+    d.z() = 0;
+  } else {
+    d -= d.dot(f.axis) * f.axis;
+  }
+  double n = d.norm();
+  if (!(n > 1e-12)) return false;
+  *out = d / n;
+  return true;
+}
+
+// Reads a uniform random unit vector in Dim dimensions from the key.
+Vec3d random_unit(uint64_t key, int dim) {
+  Rng rng(hash_combine(key, 0xF1B3E5ull));
+  double u = rng.uniform(), v = rng.uniform();
+  double phi = 2 * kPi * u;
+  if (dim == 2) return Vec3d(std::cos(phi), std::sin(phi), 0);
+  double z = 2 * v - 1, s = std::sqrt(std::max(0.0, 1 - z * z));
+  return Vec3d(s * std::cos(phi), s * std::sin(phi), z);
+}
+
+}  // namespace
+
+template <int Dim>
+Mat<Dim> fiber_frame_at(const FiberSpec& f, const Vec3d& p, uint64_t random_key) {
+  Vec3d a1 = Vec3d::UnitX(), radial;
+  Vec3d axis = f.axis.norm() > 0 ? Vec3d(f.axis.normalized()) : Vec3d::UnitZ();
+  if (Dim == 2) axis.z() = 0;
+  bool has_radial = radial_dir(f, p, Dim, &radial);
+  // Natural second direction when a2 is not given (3D): the axis for radial and
+  // circumferential fields, the radial direction for longitudinal ones.
+  Vec3d a2_hint = Vec3d::Zero();
+  switch (f.type) {
+    case FiberField::Constant: a1 = f.a1; break;
+    case FiberField::Radial:
+      a1 = has_radial ? radial : any_orthogonal(Dim == 3 ? axis : Vec3d::UnitZ());
+      a2_hint = axis;
+      break;
+    case FiberField::Circumferential:
+      if (!has_radial) radial = any_orthogonal(Dim == 3 ? axis : Vec3d::UnitZ());
+      a1 = Dim == 3 ? Vec3d(axis.cross(radial)) : Vec3d(-radial.y(), radial.x(), 0);
+      a2_hint = axis;
+      break;
+    case FiberField::Longitudinal:
+      a1 = axis;
+      if (has_radial) a2_hint = radial;
+      break;
+    case FiberField::Random: a1 = random_unit(random_key, Dim); break;
+  }
+  if (Dim == 2) a1.z() = 0;
+  if (!(a1.norm() > 0)) a1 = Vec3d::UnitX();
+  a1.normalize();
+
+  Mat<Dim> D;
+  if constexpr (Dim == 2) {
+    // In 2D the proper frame is [a1, perp(a1)]; a given a2 only fixes a line, not a sign.
+    D << Real(a1.x()), Real(-a1.y()), Real(a1.y()), Real(a1.x());
+  } else {
+    Vec3d a2 = f.has_a2 ? f.a2 : a2_hint;
+    a2 -= a2.dot(a1) * a1;
+    if (a2.norm() < 1e-9) {
+      a2 = any_orthogonal(a1);
+    } else {
+      a2.normalize();
+    }
+    D.col(0) = a1.cast<Real>();
+    D.col(1) = a2.cast<Real>();
+    D.col(2) = a1.cross(a2).cast<Real>();
+  }
+  return D;
+}
+
+template <int Dim>
+Particles<Dim> sample_scene(const Scene& scene) {
+  Particles<Dim> out;
+  const double dx = scene.dx;
+  const double cell_vol = std::pow(dx, Dim);
+  IVec<Dim> ncell;
+  for (int d = 0; d < Dim; ++d)
+    ncell[d] = std::max(1, int(std::ceil((scene.domain_max[d] - scene.domain_min[d]) / dx - 1e-9)));
+  auto in_domain = [&](const Vec3d& p) {
+    for (int d = 0; d < Dim; ++d)
+      if (p[d] < scene.domain_min[d] || p[d] > scene.domain_max[d]) return false;
+    return true;
+  };
+
+  for (size_t obj = 0; obj < scene.objects.size(); ++obj) {
+    const ObjectSpec& o = scene.objects[obj];
+    const MaterialSpec& mat = scene.materials[o.material];
+    const int k = scene_detail::ppc_root(o.ppc, Dim);  // 0: not a perfect power
+    const Real mass = Real(mat.params.rho * cell_vol / o.ppc), vol0 = Real(cell_vol / o.ppc);
+    const Vec3d center = o.shape.world_center();
+    const uint64_t obj_key = hash_combine(hash_combine(0x7EA5ull, scene.seed), obj);
+
+    Vec3d lo, hi;
+    o.shape.bounds(&lo, &hi);
+    IVec<Dim> c0, c1;  // inclusive cell range overlapping the bounds and the domain
+    bool empty = false;
+    for (int d = 0; d < Dim; ++d) {
+      double a = std::floor((lo[d] - scene.domain_min[d]) / dx);
+      double b = std::ceil((hi[d] - scene.domain_min[d]) / dx) - 1;
+      c0[d] = int(std::max(0.0, a));
+      c1[d] = int(std::min(double(ncell[d] - 1), b));
+      empty = empty || c0[d] > c1[d];
+    }
+    if (empty) continue;
+
+    IVec<Dim> c = c0;
+    for (;;) {
+      uint64_t key = obj_key;
+      for (int d = 0; d < Dim; ++d) key = hash_combine(key, uint64_t(uint32_t(c[d])));
+      Rng rng(key);
+      Vec3d origin = Vec3d::Zero();
+      for (int d = 0; d < Dim; ++d) origin[d] = scene.domain_min[d] + c[d] * dx;
+      for (int s = 0; s < o.ppc; ++s) {
+        Vec3d p = origin;
+        if (k > 0) {  // stratified: one jittered (or centred) point per sub-cell
+          int rem = s;
+          for (int d = 0; d < Dim; ++d) {
+            int sub = rem % k;
+            rem /= k;
+            double u = o.grid_sampling ? 0.5 : rng.uniform();
+            p[d] += (sub + u) * dx / k;
+          }
+        } else {
+          for (int d = 0; d < Dim; ++d) p[d] += rng.uniform() * dx;
+        }
+        if (!in_domain(p) || !o.shape.inside(p)) continue;
+        Vec3d r = p - center, w = o.angular_velocity;
+        Vec3d vel = o.velocity + (Dim == 2 ? Vec3d(-w.z() * r.y(), w.z() * r.x(), 0)
+                                           : Vec3d(w.cross(r)));
+        Mat<Dim> frame = fiber_frame_at<Dim>(o.fibers, p, hash_combine(key, uint64_t(s)));
+        out.push_back(p.head<Dim>().template cast<Real>(), vel.head<Dim>().template cast<Real>(),
+                      frame, mass, vol0, uint16_t(o.material));
+      }
+      int d = 0;
+      while (d < Dim && ++c[d] > c1[d]) c[d] = c0[d], ++d;
+      if (d == Dim) break;
+    }
+  }
+  return out;
+}
+
+template Particles<2> sample_scene<2>(const Scene&);
+template Particles<3> sample_scene<3>(const Scene&);
+template Mat<2> fiber_frame_at<2>(const FiberSpec&, const Vec3d&, uint64_t);
+template Mat<3> fiber_frame_at<3>(const FiberSpec&, const Vec3d&, uint64_t);
+
+}  // namespace tear

@@ -1,0 +1,223 @@
+// Scene loading: file reading, --set overrides, and the top-level sections
+// (grid, time, transfer, damage, output). Materials, shapes, objects and boundaries are
+// parsed in scene_materials.cpp and scene_objects.cpp. Format: SCENE_FORMAT.md.
+#include "tear/scene/scene.h"
+
+#include "tear/scene/scene_parts.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace tear {
+
+using namespace scene_detail;
+
+SceneError::SceneError(const std::string& file, const std::string& path,
+                       const std::string& reason)
+    : std::runtime_error(file + ": " + path + ": " + reason),
+      file_(file),
+      path_(path),
+      reason_(reason) {}
+
+namespace {
+
+json parse_grid(const Reader& r, const json& doc, Scene* s) {
+  const json* g = r.find(doc, "grid");
+  if (!g) r.fail("grid", "required");
+  r.object(*g, "grid", {"dx", "domain_min", "domain_max", "walls"});
+  s->dx = r.number(*g, "grid", "dx");
+  r.positive(s->dx, "grid.dx");
+  s->domain_min = r.vec(*g, "grid", "domain_min");
+  s->domain_max = r.vec(*g, "grid", "domain_max");
+  for (int i = 0; i < r.dim; ++i)
+    r.check(s->domain_min[i] < s->domain_max[i], "grid.domain_max",
+            "must be > domain_min in every entry (entry " + std::to_string(i) + ": " +
+                num_str(s->domain_max[i]) + " <= " + num_str(s->domain_min[i]) + ")");
+  s->walls = WallType(r.choice(*g, "grid", "walls", {"sticky", "slip", "separate", "none"}, 2));
+  const char* walls[] = {"sticky", "slip", "separate", "none"};
+  return {{"dx", s->dx},
+          {"domain_min", vec_json(s->domain_min, r.dim)},
+          {"domain_max", vec_json(s->domain_max, r.dim)},
+          {"walls", walls[int(s->walls)]}};
+}
+
+json parse_time(const Reader& r, const json& doc, Scene* s) {
+  const json* t = r.find(doc, "time");
+  if (!t) r.fail("time", "required");
+  r.object(*t, "time", {"frame_dt", "frames", "cfl", "max_dt"});
+  s->frame_dt = r.number(*t, "time", "frame_dt");
+  r.positive(s->frame_dt, "time.frame_dt");
+  long long frames = r.integer(*t, "time", "frames");
+  r.check(frames >= 0 && frames <= 100000000, "time.frames",
+          "must be in [0, 1e8], got " + std::to_string(frames));
+  s->frames = int(frames);
+  s->cfl = r.number(*t, "time", "cfl", 0.4);
+  r.check(s->cfl > 0 && s->cfl <= 1, "time.cfl", "must be in (0, 1], got " + num_str(s->cfl));
+  s->max_dt = r.number(*t, "time", "max_dt", 1e-3);
+  r.positive(s->max_dt, "time.max_dt");
+  return {{"frame_dt", s->frame_dt}, {"frames", s->frames}, {"cfl", s->cfl},
+          {"max_dt", s->max_dt}};
+}
+
+json parse_damage(const Reader& r, const json& doc, Scene* s) {
+  static const json kEmpty = json::object();
+  const json* d = r.find(doc, "damage");
+  if (!d) d = &kEmpty;
+  r.object(*d, "damage", {"solver", "l0", "zeta", "transfer"});
+  DamageSolverSpec& ds = s->damage;
+  ds.solver = DamageSolver(r.choice(*d, "damage", "solver", {"none", "explicit", "implicit"}, 0));
+  ds.l0 = r.number(*d, "damage", "l0", 0.5 * s->dx);
+  r.positive(ds.l0, "damage.l0");
+  ds.zeta = r.number(*d, "damage", "zeta", 1.0);
+  r.positive(ds.zeta, "damage.zeta");
+  ds.transfer = r.choice(*d, "damage", "transfer", {"flip", "pic"}, 0) == 0 ? Transfer::Flip
+                                                                              : Transfer::Pic;
+  const char* solvers[] = {"none", "explicit", "implicit"};
+  return {{"solver", solvers[int(ds.solver)]},
+          {"l0", ds.l0},
+          {"zeta", ds.zeta},
+          {"transfer", ds.transfer == Transfer::Flip ? "flip" : "pic"}};
+}
+
+json parse_output(const Reader& r, const json& doc, Scene* s) {
+  static const json kEmpty = json::object();
+  const json* o = r.find(doc, "output");
+  if (!o) o = &kEmpty;
+  r.object(*o, "output", {"every", "formats", "checkpoint_every"});
+  long long every = r.integer(*o, "output", "every", 1);
+  r.check(every >= 1 && every <= 1000000000, "output.every",
+          "must be >= 1, got " + std::to_string(every));
+  s->output_every = int(every);
+  long long ck = r.integer(*o, "output", "checkpoint_every", 10);
+  r.check(ck >= 0 && ck <= 1000000000, "output.checkpoint_every",
+          "must be >= 0, got " + std::to_string(ck));
+  s->checkpoint_every = int(ck);
+  s->formats = {"ply"};
+  if (const json* f = r.find(*o, "formats")) {
+    if (!f->is_array()) r.fail("output.formats", "must be an array of strings, got " + type_desc(*f));
+    s->formats.clear();
+    for (size_t i = 0; i < f->size(); ++i) {
+      std::string p = index_path("output.formats", i);
+      const json& v = (*f)[i];
+      if (!v.is_string()) r.fail(p, "must be a string, got " + type_desc(v));
+      std::string name = v.get<std::string>();
+      if (name == "bgeo" || name == "vtu") r.fail(p, "format \"" + name + "\": not implemented yet");
+      if (name != "ply") r.fail(p, "unknown format \"" + name + "\" (expected one of: ply, bgeo, vtu)");
+      for (const std::string& seen : s->formats)
+        r.check(seen != name, p, "duplicate format \"" + name + "\"");
+      s->formats.push_back(name);
+    }
+  }
+  return {{"every", s->output_every}, {"formats", s->formats},
+          {"checkpoint_every", s->checkpoint_every}};
+}
+
+// Sets doc at the dotted `path` to `value`; the parent must exist.
+void apply_override(const std::string& file, json* doc, const std::string& ov) {
+  size_t eq = ov.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw SceneError(file, "(override)", "override \"" + ov + "\" must look like a.b.c=VALUE");
+  std::string path = ov.substr(0, eq), text = ov.substr(eq + 1);
+  json value = json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (value.is_discarded()) value = text;
+  std::vector<std::string> parts;
+  std::stringstream ss(path);
+  for (std::string p; std::getline(ss, p, '.');) parts.push_back(p);
+  if (path.back() == '.') parts.push_back("");
+  json* node = doc;
+  std::string walked;
+  auto bad = [&](const std::string& why) {
+    throw SceneError(file, path, "override \"" + ov + "\": " + why);
+  };
+  for (size_t i = 0; i < parts.size(); ++i) {
+    const std::string& part = parts[i];
+    if (part.empty()) bad("empty path component");
+    bool last = i + 1 == parts.size();
+    if (node->is_object()) {
+      if (!last && !node->contains(part))
+        bad("\"" + key_path(walked, part) + "\" does not exist");
+      node = &(*node)[part];
+    } else if (node->is_array()) {
+      bool digits = part.find_first_not_of("0123456789") == std::string::npos;
+      if (!digits || part.size() > 9 || std::stoul(part) >= node->size())
+        bad("\"" + key_path(walked, part) + "\" does not exist (array of " +
+            std::to_string(node->size()) + " entries)");
+      node = &(*node)[std::stoul(part)];
+    } else {
+      bad("\"" + walked + "\" is " + type_desc(*node) + ", not an object or array");
+    }
+    walked = key_path(walked, part);
+  }
+  *node = value;
+}
+
+}  // namespace
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw SceneError(path, "(file)", "cannot open file");
+  std::stringstream text;
+  text << in.rdbuf();
+  json doc;
+  try {
+    doc = json::parse(text.str());
+  } catch (const json::parse_error& e) {
+    std::string msg = e.what();
+    size_t close = msg.find("] ");
+    if (msg.rfind("[json.exception", 0) == 0 && close != std::string::npos)
+      msg = msg.substr(close + 2);
+    throw SceneError(path, "(file)", "invalid JSON: " + msg);
+  }
+  for (const std::string& ov : overrides) apply_override(path, &doc, ov);
+  return parse_scene(doc, path);
+}
+
+Scene parse_scene(const json& doc, const std::string& file) {
+  Reader r(file);
+  Scene s;
+  s.file = file;
+  if (!doc.is_object()) r.fail("(root)", "must be an object, got " + type_desc(doc));
+  r.object(doc, "",
+           {"name", "dim", "seed", "grid", "time", "gravity", "transfer", "flip_ratio",
+            "integrator", "damage", "materials", "objects", "boundaries", "output"});
+  long long dim = r.integer(doc, "", "dim");
+  r.check(dim == 2 || dim == 3, "dim", "must be 2 or 3, got " + std::to_string(dim));
+  s.dim = r.dim = int(dim);
+  std::string stem = file.empty() ? "scene" : std::filesystem::path(file).stem().string();
+  s.name = r.string(doc, "", "name", stem);
+  r.check(!s.name.empty(), "name", "must not be empty");
+  long long seed = r.integer(doc, "", "seed", 1);
+  r.non_negative(double(seed), "seed");
+  s.seed = uint64_t(seed);
+
+  json out;
+  out["name"] = s.name;
+  out["dim"] = s.dim;
+  out["seed"] = s.seed;
+  out["grid"] = parse_grid(r, doc, &s);
+  out["time"] = parse_time(r, doc, &s);
+  s.gravity = r.vec(doc, "", "gravity", Vec3d::Zero());
+  out["gravity"] = vec_json(s.gravity, s.dim);
+  s.transfer = Transfer(r.choice(doc, "", "transfer", {"apic", "pic", "flip"}, 0));
+  const char* transfers[] = {"apic", "pic", "flip"};
+  out["transfer"] = transfers[int(s.transfer)];
+  // Stored always so the resolved scene reloads; only used when transfer is "flip".
+  s.flip_ratio = r.number(doc, "", "flip_ratio", 0.95);
+  r.check(s.flip_ratio >= 0 && s.flip_ratio <= 1, "flip_ratio",
+          "must be in [0, 1], got " + num_str(s.flip_ratio));
+  out["flip_ratio"] = s.flip_ratio;
+  if (r.choice(doc, "", "integrator", {"explicit", "implicit"}, 0) == 1)
+    r.fail("integrator", "\"implicit\": not implemented yet");
+  out["integrator"] = "explicit";
+  out["damage"] = parse_damage(r, doc, &s);
+  out["materials"] = parse_materials(r, doc, &s);
+  out["objects"] = parse_objects(r, doc, &s);
+  out["boundaries"] = parse_boundaries(r, doc, &s);
+  out["output"] = parse_output(r, doc, &s);
+  s.resolved = std::move(out);
+  return s;
+}
+
+}  // namespace tear

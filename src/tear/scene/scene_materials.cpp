@@ -1,0 +1,135 @@
+// The "materials" section (SCENE_FORMAT.md "materials.NAME.*").
+#include "tear/scene/scene_parts.h"
+
+namespace tear::scene_detail {
+
+namespace {
+
+// A scalar (applies to the first fiber, the rest 0) or an array of 1..n numbers.
+void scalar_or_array(const Reader& r, const json& v, const std::string& path, int n,
+                     double* out) {
+  for (int i = 0; i < n; ++i) out[i] = 0;
+  if (v.is_number()) {
+    out[0] = r.as_number(v, path);
+  } else if (v.is_array() && v.size() >= 1 && int(v.size()) <= n) {
+    for (size_t i = 0; i < v.size(); ++i) out[i] = r.as_number(v[i], index_path(path, i));
+  } else {
+    r.fail(path, "must be a number or an array of " +
+                     (n == 1 ? std::string("1 number") : "1 to " + std::to_string(n) + " numbers") +
+                     ", got " + (v.is_array() ? std::to_string(v.size()) + " entries" : type_desc(v)));
+  }
+}
+
+json parse_damage_spec(const Reader& r, const json& m, const std::string& path, DamageSpec* d) {
+  const json* j = r.find(m, "damage");
+  if (!j) return nullptr;
+  std::string p = key_path(path, "damage");
+  r.object(*j, p, {"sigma_c", "eta", "residual", "alpha"});
+  d->enabled = true;
+  d->sigma_c = r.number(*j, p, "sigma_c");
+  r.positive(d->sigma_c, key_path(p, "sigma_c"));
+  d->eta = r.number(*j, p, "eta");
+  r.positive(d->eta, key_path(p, "eta"));
+  d->residual = r.number(*j, p, "residual", 0.0);
+  r.check(d->residual >= 0 && d->residual < 1, key_path(p, "residual"),
+          "must be in [0, 1), got " + num_str(d->residual));
+  d->alpha[0] = d->alpha[1] = 0;
+  if (const json* a = r.find(*j, "alpha")) scalar_or_array(r, *a, key_path(p, "alpha"), 2, d->alpha);
+  for (int i = 0; i < 2; ++i)
+    r.check(d->alpha[i] >= -1 && d->alpha[i] <= 0, key_path(p, "alpha"),
+            "must be in [-1, 0], got " + num_str(d->alpha[i]));
+  return {{"sigma_c", d->sigma_c},
+          {"eta", d->eta},
+          {"residual", d->residual},
+          {"alpha", {d->alpha[0], d->alpha[1]}}};
+}
+
+MaterialSpec parse_material(const Reader& r, const std::string& name, const json& m,
+                            json* out) {
+  std::string path = key_path("materials", name);
+  r.object(m, path,
+           {"model", "E", "nu", "rho", "fiber_scale", "damage", "plasticity", "inextensible"});
+  MaterialSpec spec;
+  spec.name = name;
+  std::string model_str = r.string(m, path, "model");
+  Model model;
+  if (!parse_model(model_str, &model))
+    r.fail(key_path(path, "model"), "unknown model \"" + model_str +
+                                        "\" (expected one of: qr_aniso, fixed_corotated, "
+                                        "neo_hookean, stvk_hencky)");
+  double E = r.number(m, path, "E");
+  r.positive(E, key_path(path, "E"));
+  double nu = r.number(m, path, "nu");
+  r.check(nu > -1 && nu < 0.5, key_path(path, "nu"), "must be in (-1, 0.5), got " + num_str(nu));
+  double rho = r.number(m, path, "rho");
+  r.positive(rho, key_path(path, "rho"));
+
+  // fiber_scale: [gamma1] in 2D, [gamma1, gamma2] in 3D; a scalar sets gamma1 only.
+  // 2D also takes [gamma1, 0], as in SCENE_FORMAT.md's example (only a1 is stiffened in 2D).
+  int nfs = r.dim - 1;
+  double fs[2] = {0, 0};
+  if (const json* f = r.find(m, "fiber_scale")) {
+    std::string fp = key_path(path, "fiber_scale");
+    bool zero_pad = r.dim == 2 && f->is_array() && f->size() == 2;
+    if (f->is_array() && int(f->size()) != nfs && !zero_pad)
+      r.fail(fp, "must be an array of " + std::to_string(nfs) + " number" + (nfs > 1 ? "s" : "") +
+                     " in " + std::to_string(r.dim) + "D, got " + std::to_string(f->size()) +
+                     " entries");
+    scalar_or_array(r, *f, fp, 2, fs);
+    for (int i = 0; i < 2; ++i) r.non_negative(fs[i], f->is_array() ? index_path(fp, i) : fp);
+    if (zero_pad)
+      r.check(fs[1] == 0, index_path(fp, 1),
+              "must be 0 in 2D (only a1 has a fiber stiffness), got " + num_str(fs[1]));
+  }
+  spec.fiber_scale[0] = Real(fs[0]);
+  spec.fiber_scale[1] = Real(fs[1]);
+  spec.params = make_material(model, Real(E), Real(nu), Real(rho), Real(fs[0]), Real(fs[1]));
+
+  json damage = parse_damage_spec(r, m, path, &spec.damage);
+  if (const json* p = r.find(m, "plasticity")) {
+    std::string pp = key_path(path, "plasticity");
+    if (!p->is_object()) r.fail(pp, "must be null or an object, got " + type_desc(*p));
+    int type = r.choice(*p, pp, "type", {"von_mises", "drucker_prager"});
+    r.fail(key_path(pp, "type"),
+           std::string(type == 0 ? "\"von_mises\"" : "\"drucker_prager\"") +
+               ": not implemented yet");
+  }
+  spec.inextensible = r.boolean(m, path, "inextensible", false);
+  r.check(!spec.inextensible, key_path(path, "inextensible"), "true: not implemented yet");
+
+  json fsj = json::array();
+  for (int i = 0; i < nfs; ++i) fsj.push_back(fs[i]);
+  *out = {{"model", model_str}, {"E", E},          {"nu", nu},
+          {"rho", rho},         {"fiber_scale", fsj}, {"damage", damage},
+          {"plasticity", nullptr}, {"inextensible", false}};
+  return spec;
+}
+
+}  // namespace
+
+json parse_materials(const Reader& r, const json& doc, Scene* scene) {
+  const json* ms = r.find(doc, "materials");
+  if (!ms) r.fail("materials", "required");
+  if (!ms->is_object())
+    r.fail("materials", "must be an object of NAME: {...}, got " + type_desc(*ms));
+  r.check(ms->size() <= 65535, "materials", "too many materials (at most 65535)");
+  json out = json::object();
+  for (auto it = ms->begin(); it != ms->end(); ++it) {  // name order (std::map)
+    r.check(!it.key().empty(), "materials", "material names must not be empty");
+    json resolved;
+    scene->materials.push_back(parse_material(r, it.key(), it.value(), &resolved));
+    out[it.key()] = resolved;
+  }
+  return out;
+}
+
+int ppc_root(int ppc, int dim) {
+  for (int k = 1; k <= ppc; ++k) {
+    int p = dim == 2 ? k * k : k * k * k;
+    if (p == ppc) return k;
+    if (p > ppc) break;
+  }
+  return 0;
+}
+
+}  // namespace tear::scene_detail

@@ -1,0 +1,161 @@
+// "objects" and "boundaries" sections (SCENE_FORMAT.md).
+#include "tear/scene/scene_parts.h"
+
+#include <cmath>
+
+namespace tear::scene_detail {
+
+namespace {
+
+// 2D: a scalar omega_z; 3D: a vector.
+Vec3d angular_velocity(const Reader& r, const json& obj, const std::string& path, json* out) {
+  Vec3d w = Vec3d::Zero();
+  if (r.dim == 2) {
+    w.z() = r.number(obj, path, "angular_velocity", 0.0);
+    (*out)["angular_velocity"] = w.z();
+  } else {
+    w = r.vec(obj, path, "angular_velocity", Vec3d::Zero());
+    (*out)["angular_velocity"] = vec_json(w, 3);
+  }
+  return w;
+}
+
+// Fiber field defaults: a1 = x, centre = the shape's world centre, axis = the shape's world
+// axis for cylinders and tubes, else z (3D) or x (2D; only "longitudinal" uses it there).
+json parse_fibers(const Reader& r, const json& obj, const std::string& opath, const Shape& shape,
+                  FiberSpec* f) {
+  static const json kEmpty = json::object();
+  const json* j = r.find(obj, "fibers");
+  if (!j) j = &kEmpty;
+  std::string path = key_path(opath, "fibers");
+  r.object(*j, path, {"type", "a1", "a2", "center", "axis"});
+  f->type = FiberField(r.choice(
+      *j, path, "type", {"constant", "radial", "circumferential", "longitudinal", "random"}, 0));
+  const char* names[] = {"constant", "radial", "circumferential", "longitudinal", "random"};
+  json out = {{"type", names[int(f->type)]}};
+
+  Vec3d a1 = r.vec(*j, path, "a1", Vec3d::UnitX());
+  r.check(a1.norm() > 0, key_path(path, "a1"), "must be non-zero");
+  f->a1 = a1.normalized();
+  out["a1"] = vec_json(a1, r.dim);
+  out["a2"] = nullptr;
+  f->has_a2 = r.find(*j, "a2") != nullptr;
+  f->a2 = Vec3d::Zero();
+  if (f->has_a2) {
+    Vec3d a2 = r.vec(*j, path, "a2");
+    r.check(a2.norm() > 0, key_path(path, "a2"), "must be non-zero");
+    r.check(f->a1.cross(a2.normalized()).norm() > 1e-6, key_path(path, "a2"),
+            "must not be parallel to a1");
+    f->a2 = a2.normalized();
+    out["a2"] = vec_json(a2, r.dim);
+  }
+  f->center = r.vec(*j, path, "center", shape.world_center());
+  out["center"] = vec_json(f->center, r.dim);
+  Vec3d axis_def = r.dim == 3 ? Vec3d::UnitZ() : Vec3d::UnitX();
+  if (shape.type == Shape::Type::Cylinder || shape.type == Shape::Type::Tube) {
+    axis_def = shape.transform.rotate * shape.axis;
+    if (r.dim == 2) axis_def.z() = 0;
+  }
+  Vec3d axis = r.vec(*j, path, "axis", axis_def);
+  r.check(axis.norm() > 0, key_path(path, "axis"), "must be non-zero");
+  f->axis = axis.normalized();
+  out["axis"] = vec_json(axis, r.dim);
+  return out;
+}
+
+json parse_object(const Reader& r, const json& o, const std::string& path, const Scene& scene,
+                  ObjectSpec* spec) {
+  r.object(o, path,
+           {"shape", "material", "ppc", "sampling", "velocity", "angular_velocity", "fibers"});
+  json out;
+  const json* sj = r.find(o, "shape");
+  if (!sj) r.fail(key_path(path, "shape"), "required");
+  out["shape"] = parse_shape(r, *sj, key_path(path, "shape"), false, &spec->shape);
+
+  std::string mat = r.string(o, path, "material");
+  spec->material = -1;
+  for (size_t i = 0; i < scene.materials.size(); ++i)
+    if (scene.materials[i].name == mat) spec->material = int(i);
+  if (spec->material < 0) {
+    std::string list;
+    for (const MaterialSpec& m : scene.materials) list += (list.empty() ? "" : ", ") + m.name;
+    r.fail(key_path(path, "material"),
+           "unknown material \"" + mat + "\" (defined: " + (list.empty() ? "none" : list) + ")");
+  }
+  out["material"] = mat;
+
+  long long ppc = r.integer(o, path, "ppc", r.dim == 2 ? 4 : 8);
+  r.check(ppc >= 1 && ppc <= 4096, key_path(path, "ppc"),
+          "must be in [1, 4096], got " + std::to_string(ppc));
+  spec->ppc = int(ppc);
+  out["ppc"] = spec->ppc;
+  spec->grid_sampling = r.choice(o, path, "sampling", {"random", "grid"}, 0) == 1;
+  if (spec->grid_sampling && ppc_root(spec->ppc, r.dim) == 0)
+    r.fail(key_path(path, "ppc"), "must be a perfect " +
+                                      std::string(r.dim == 2 ? "square" : "cube") +
+                                      " with \"sampling\": \"grid\", got " + std::to_string(ppc));
+  out["sampling"] = spec->grid_sampling ? "grid" : "random";
+  spec->velocity = r.vec(o, path, "velocity", Vec3d::Zero());
+  out["velocity"] = vec_json(spec->velocity, r.dim);
+  spec->angular_velocity = angular_velocity(r, o, path, &out);
+  out["fibers"] = parse_fibers(r, o, path, spec->shape, &spec->fibers);
+  return out;
+}
+
+json parse_boundary(const Reader& r, const json& b, const std::string& path, BoundarySpec* spec) {
+  r.object(b, path,
+           {"type", "shape", "friction", "velocity", "angular_velocity", "start", "end"});
+  const char* types[] = {"sticky", "slip", "separate"};
+  spec->type = WallType(r.choice(b, path, "type", {"sticky", "slip", "separate"}));
+  json out = {{"type", types[int(spec->type)]}};
+  const json* sj = r.find(b, "shape");
+  if (!sj) r.fail(key_path(path, "shape"), "required");
+  out["shape"] = parse_shape(r, *sj, key_path(path, "shape"), true, &spec->shape);
+  spec->friction = r.number(b, path, "friction", 0.0);
+  r.non_negative(spec->friction, key_path(path, "friction"));
+  out["friction"] = spec->friction;
+  spec->velocity = r.vec(b, path, "velocity", Vec3d::Zero());
+  out["velocity"] = vec_json(spec->velocity, r.dim);
+  spec->angular_velocity = angular_velocity(r, b, path, &out);
+  spec->start = r.number(b, path, "start", 0.0);
+  spec->end = r.number(b, path, "end", 1e30);
+  r.check(spec->end > spec->start, key_path(path, "end"),
+          "must be > start (" + num_str(spec->start) + "), got " + num_str(spec->end));
+  out["start"] = spec->start;
+  out["end"] = spec->end;
+  return out;
+}
+
+const json* array_section(const Reader& r, const json& doc, const char* key) {
+  const json* a = r.find(doc, key);
+  if (a && !a->is_array()) r.fail(key, "must be an array, got " + type_desc(*a));
+  return a;
+}
+
+}  // namespace
+
+json parse_objects(const Reader& r, const json& doc, Scene* scene) {
+  json out = json::array();
+  const json* objs = array_section(r, doc, "objects");
+  if (!objs) r.fail("objects", "required");
+  for (size_t i = 0; i < objs->size(); ++i) {
+    ObjectSpec spec;
+    out.push_back(parse_object(r, (*objs)[i], index_path("objects", i), *scene, &spec));
+    scene->objects.push_back(spec);
+  }
+  return out;
+}
+
+json parse_boundaries(const Reader& r, const json& doc, Scene* scene) {
+  json out = json::array();
+  const json* bs = array_section(r, doc, "boundaries");
+  if (!bs) return out;
+  for (size_t i = 0; i < bs->size(); ++i) {
+    BoundarySpec spec;
+    out.push_back(parse_boundary(r, (*bs)[i], index_path("boundaries", i), &spec));
+    scene->boundaries.push_back(spec);
+  }
+  return out;
+}
+
+}  // namespace tear::scene_detail

@@ -1,0 +1,123 @@
+// Shape descriptions: "objects[].shape" and "boundaries[].shape" (SCENE_FORMAT.md).
+// Transform convention: x_world = translate + R (scale x_local). R is, in 2D, a rotation by
+// "rotate" degrees counter-clockwise about z; in 3D, "rotate": {"axis": [x,y,z], "angle_deg": a}
+// (right-handed axis-angle).
+#include "tear/scene/scene_parts.h"
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+
+namespace tear::scene_detail {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+json parse_transform(const Reader& r, const json& shape, const std::string& path,
+                     ShapeTransform* t) {
+  static const json kEmpty = json::object();
+  const json* j = r.find(shape, "transform");
+  if (!j) j = &kEmpty;
+  std::string p = key_path(path, "transform");
+  r.object(*j, p, {"translate", "rotate", "scale"});
+  t->translate = r.vec(*j, p, "translate", Vec3d::Zero());
+  t->scale = r.number(*j, p, "scale", 1.0);
+  r.positive(t->scale, key_path(p, "scale"));
+  json out = {{"translate", vec_json(t->translate, r.dim)}, {"scale", t->scale}};
+  std::string rp = key_path(p, "rotate");
+  if (r.dim == 2) {
+    double deg = r.number(*j, p, "rotate", 0.0);
+    t->rotate = Eigen::AngleAxisd(deg * kPi / 180, Vec3d::UnitZ()).toRotationMatrix();
+    out["rotate"] = deg;
+  } else {
+    static const json kNoRotation = {{"axis", {0.0, 0.0, 1.0}}, {"angle_deg", 0.0}};
+    const json* rot = r.find(*j, "rotate");
+    if (!rot) rot = &kNoRotation;
+    if (!rot->is_object())
+      r.fail(rp, "must be {\"axis\": [x, y, z], \"angle_deg\": a} in 3D, got " + type_desc(*rot));
+    r.object(*rot, rp, {"axis", "angle_deg"});
+    Vec3d axis = r.vec(*rot, rp, "axis");
+    r.check(axis.norm() > 0, key_path(rp, "axis"), "must be non-zero");
+    double deg = r.number(*rot, rp, "angle_deg");
+    t->rotate = Eigen::AngleAxisd(deg * kPi / 180, axis.normalized()).toRotationMatrix();
+    out["rotate"] = {{"axis", vec_json(axis, 3)}, {"angle_deg", deg}};
+  }
+  return out;
+}
+
+// A unit axis (rejecting zero) read from obj[key].
+Vec3d unit_vec(const Reader& r, const json& obj, const std::string& path, const char* key,
+               json* out) {
+  Vec3d a = r.vec(obj, path, key);
+  r.check(a.norm() > 0, key_path(path, key), "must be non-zero");
+  (*out)[key] = vec_json(a, r.dim);
+  return a.normalized();
+}
+
+double positive_number(const Reader& r, const json& obj, const std::string& path,
+                       const char* key, json* out) {
+  double v = r.number(obj, path, key);
+  r.positive(v, key_path(path, key));
+  (*out)[key] = v;
+  return v;
+}
+
+}  // namespace
+
+json parse_shape(const Reader& r, const json& j, const std::string& path, bool allow_half_space,
+                 Shape* s) {
+  if (!j.is_object()) r.fail(path, "must be an object, got " + type_desc(j));
+  int type = r.choice(j, path, "type",
+                      {"box", "sphere", "cylinder", "tube", "half_space", "mesh", "particles"});
+  std::string tp = key_path(path, "type");
+  if (type >= 5) r.fail(tp, "\"" + j["type"].get<std::string>() + "\": not implemented yet");
+  if (type == 4 && !allow_half_space)
+    r.fail(tp, "\"half_space\" is only allowed for boundaries (objects must be bounded)");
+  switch (type) {
+    case 0: r.object(j, path, {"type", "min", "max", "transform"}); break;
+    case 1: r.object(j, path, {"type", "center", "radius", "transform"}); break;
+    case 2: r.object(j, path, {"type", "center", "axis", "radius", "height", "transform"}); break;
+    case 3:
+      r.object(j, path,
+               {"type", "center", "axis", "radius", "inner_radius", "height", "transform"});
+      break;
+    default: r.object(j, path, {"type", "point", "normal", "transform"}); break;
+  }
+  *s = Shape();
+  s->dim = r.dim;
+  s->type = Shape::Type(type);
+  json out = {{"type", j["type"]}};
+  if (type == 0) {
+    s->min = r.vec(j, path, "min");
+    s->max = r.vec(j, path, "max");
+    for (int i = 0; i < r.dim; ++i)
+      r.check(s->min[i] < s->max[i], key_path(path, "max"),
+              "must be > min in every entry (entry " + std::to_string(i) + ": " +
+                  num_str(s->max[i]) + " <= " + num_str(s->min[i]) + ")");
+    out["min"] = vec_json(s->min, r.dim);
+    out["max"] = vec_json(s->max, r.dim);
+  } else if (type <= 3) {
+    s->center = r.vec(j, path, "center");
+    out["center"] = vec_json(s->center, r.dim);
+    if (type >= 2) s->axis = unit_vec(r, j, path, "axis", &out);
+    s->radius = positive_number(r, j, path, "radius", &out);
+    if (type >= 2) s->height = positive_number(r, j, path, "height", &out);
+    if (type == 3) {
+      s->inner_radius = r.number(j, path, "inner_radius");
+      r.check(s->inner_radius >= 0 && s->inner_radius < s->radius,
+              key_path(path, "inner_radius"),
+              "must be in [0, radius = " + num_str(s->radius) + "), got " +
+                  num_str(s->inner_radius));
+      out["inner_radius"] = s->inner_radius;
+    }
+  } else {
+    s->point = r.vec(j, path, "point");
+    out["point"] = vec_json(s->point, r.dim);
+    s->normal = unit_vec(r, j, path, "normal", &out);
+  }
+  out["transform"] = parse_transform(r, j, path, &s->transform);
+  return out;
+}
+
+}  // namespace tear::scene_detail

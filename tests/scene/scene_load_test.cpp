@@ -1,0 +1,239 @@
+// Loading, defaults, the resolved document, and --set overrides.
+#include "scene_test_util.h"
+
+namespace tear {
+namespace {
+
+using nlohmann::json;
+
+// A 3D scene touching every section, with defaults left out where possible.
+json rich_scene_3d() {
+  return json::parse(R"({
+    "dim": 3, "seed": 7,
+    "grid": { "dx": 0.02, "domain_min": [0, 0, 0], "domain_max": [1, 1, 1], "walls": "slip" },
+    "time": { "frame_dt": 0.02, "frames": 10, "max_dt": 5e-4 },
+    "gravity": [0, -981, 0],
+    "transfer": "flip", "flip_ratio": 0.9,
+    "damage": { "solver": "explicit", "zeta": 2 },
+    "materials": {
+      "meat": { "model": "qr_aniso", "E": 100, "nu": 0.25, "rho": 2, "fiber_scale": [50, 5],
+                "damage": { "sigma_c": 0.35, "eta": 0.1, "alpha": -1 } },
+      "bone": { "model": "fixed_corotated", "E": 1e5, "nu": 0.3, "rho": 3 }
+    },
+    "objects": [
+      { "shape": { "type": "tube", "center": [0.5, 0.5, 0.5], "axis": [0, 0, 1], "radius": 0.2,
+                   "inner_radius": 0.1, "height": 0.4,
+                   "transform": { "rotate": { "axis": [1, 0, 0], "angle_deg": 30 } } },
+        "material": "meat", "fibers": { "type": "circumferential" },
+        "angular_velocity": [0, 0, 1] },
+      { "shape": { "type": "sphere", "center": [0.5, 0.8, 0.5], "radius": 0.05 },
+        "material": "bone", "ppc": 27, "sampling": "grid", "velocity": [0, -1, 0] }
+    ],
+    "boundaries": [
+      { "type": "separate", "shape": { "type": "half_space", "point": [0, 0.1, 0], "normal": [0, 1, 0] },
+        "friction": 0.3 },
+      { "type": "sticky", "shape": { "type": "box", "min": [0.4, 0.9, 0.4], "max": [0.6, 1, 0.6] },
+        "velocity": [0, 0.1, 0], "end": 0.5 }
+    ],
+    "output": { "every": 2, "checkpoint_every": 0 }
+  })");
+}
+
+TEST(SceneLoad, MinimalSceneGetsEveryDefault) {
+  Scene s = parse_scene(test::minimal_scene_2d(), "scenes/mini.json");
+  EXPECT_EQ(s.name, "mini");
+  EXPECT_EQ(s.seed, 1u);
+  EXPECT_EQ(s.walls, WallType::Separate);
+  EXPECT_DOUBLE_EQ(s.cfl, 0.4);
+  EXPECT_DOUBLE_EQ(s.max_dt, 1e-3);
+  EXPECT_EQ(s.transfer, Transfer::Apic);
+  EXPECT_EQ(s.damage.solver, DamageSolver::None);
+  EXPECT_DOUBLE_EQ(s.damage.l0, 0.5 * s.dx);
+  ASSERT_EQ(s.objects.size(), 1u);
+  EXPECT_EQ(s.objects[0].ppc, 4);
+  EXPECT_FALSE(s.objects[0].grid_sampling);
+  EXPECT_EQ(s.objects[0].fibers.type, FiberField::Constant);
+  EXPECT_EQ(s.output_every, 1);
+  EXPECT_EQ(s.checkpoint_every, 10);
+  EXPECT_EQ(s.formats, std::vector<std::string>{"ply"});
+  const json& r = s.resolved;
+  EXPECT_EQ(r["time"]["cfl"], 0.4);
+  EXPECT_EQ(r["gravity"], json({0.0, 0.0}));
+  EXPECT_EQ(r["integrator"], "explicit");
+  EXPECT_EQ(r["damage"]["solver"], "none");
+  EXPECT_EQ(r["materials"]["jelly"]["fiber_scale"], json({0.0}));
+  EXPECT_TRUE(r["materials"]["jelly"]["damage"].is_null());
+  EXPECT_EQ(r["objects"][0]["shape"]["transform"]["scale"], 1.0);
+  EXPECT_NEAR(r["objects"][0]["fibers"]["center"][0].get<double>(), 0.4, 1e-15);
+  EXPECT_EQ(r["objects"][0]["fibers"]["center"].size(), 2u);
+  EXPECT_EQ(r["boundaries"], json::array());
+  EXPECT_EQ(r["output"]["formats"], json({"ply"}));
+}
+
+TEST(SceneLoad, RichSceneIsParsed) {
+  Scene s = parse_scene(rich_scene_3d(), "rich.json");
+  EXPECT_EQ(s.dim, 3);
+  EXPECT_EQ(s.seed, 7u);
+  ASSERT_EQ(s.materials.size(), 2u);
+  EXPECT_EQ(s.materials[0].name, "bone");  // materials are indexed in name order
+  EXPECT_EQ(s.materials[1].name, "meat");
+  EXPECT_EQ(s.objects[0].material, 1);
+  EXPECT_EQ(s.objects[1].material, 0);
+  EXPECT_TRUE(s.materials[1].damage.enabled);
+  EXPECT_DOUBLE_EQ(s.materials[1].damage.alpha[0], -1);
+  EXPECT_DOUBLE_EQ(s.materials[1].damage.alpha[1], 0);
+  EXPECT_FALSE(s.materials[0].damage.enabled);
+  EXPECT_EQ(s.objects[1].ppc, 27);
+  EXPECT_TRUE(s.objects[1].grid_sampling);
+  EXPECT_EQ(s.objects[0].shape.type, Shape::Type::Tube);
+  // Fiber axis defaults to the tube's world axis: z rotated 30 degrees about x.
+  EXPECT_NEAR(s.objects[0].fibers.axis.dot(Vec3d(0, -0.5, std::sqrt(3.0) / 2)), 1, 1e-12);
+  EXPECT_EQ(s.boundaries[0].shape.type, Shape::Type::HalfSpace);
+  EXPECT_DOUBLE_EQ(s.boundaries[0].friction, 0.3);
+  EXPECT_DOUBLE_EQ(s.boundaries[1].end, 0.5);
+  EXPECT_DOUBLE_EQ(s.boundaries[0].end, 1e30);
+  EXPECT_EQ(s.damage.solver, DamageSolver::Explicit);
+  EXPECT_DOUBLE_EQ(s.flip_ratio, 0.9);
+}
+
+// The example of SCENE_FORMAT.md and of docs/scene_reference.md load as written.
+TEST(SceneLoad, DocumentedExamplesLoad) {
+  Scene a = parse_scene(json::parse(R"({
+  "name": "diagonal_block_tear",
+  "dim": 2,
+  "seed": 1,
+  "grid":   { "dx": 0.01, "domain_min": [0, 0], "domain_max": [1, 1], "walls": "separate" },
+  "time":   { "frame_dt": 0.02, "frames": 100, "cfl": 0.4, "max_dt": 5e-4 },
+  "gravity": [0, -981],
+  "transfer": "apic",
+  "integrator": "explicit",
+  "damage": { "solver": "explicit", "l0": null, "zeta": 1.0, "transfer": "flip" },
+  "materials": {
+    "fibrous": {
+      "model": "qr_aniso", "E": 100, "nu": 0.25, "rho": 2,
+      "fiber_scale": [50, 0],
+      "damage": { "sigma_c": 0.35, "eta": 0.1, "residual": 0.001, "alpha": [-1, 0] },
+      "plasticity": null,
+      "inextensible": false
+    }
+  },
+  "objects": [
+    { "shape": { "type": "box", "min": [0.3, 0.3], "max": [0.7, 0.7] },
+      "material": "fibrous", "ppc": 4,
+      "fibers": { "type": "constant", "a1": [1, 1] },
+      "velocity": [0, 0] }
+  ],
+  "boundaries": [
+    { "type": "sticky", "shape": { "type": "box", "min": [0.25, 0.68], "max": [0.75, 0.75] },
+      "velocity": [0, 0.1], "start": 0, "end": 1e30 },
+    { "type": "sticky", "shape": { "type": "box", "min": [0.25, 0.25], "max": [0.75, 0.32] },
+      "velocity": [0, -0.1] }
+  ],
+  "output": { "every": 1, "formats": ["ply"], "checkpoint_every": 10 }
+})"), "scene_format.json");
+  EXPECT_EQ(a.name, "diagonal_block_tear");
+  EXPECT_EQ(a.damage.solver, DamageSolver::Explicit);
+  EXPECT_DOUBLE_EQ(a.damage.l0, 0.005);
+  EXPECT_DOUBLE_EQ(a.materials[0].damage.alpha[0], -1);
+  EXPECT_EQ(a.boundaries.size(), 2u);
+  EXPECT_EQ(a.resolved["materials"]["fibrous"]["fiber_scale"], json({50.0}));  // [50, 0] in 2D
+  Scene b = parse_scene(json::parse(R"({
+  "dim": 2,
+  "grid": { "dx": 0.01, "domain_min": [0, 0], "domain_max": [1, 1] },
+  "time": { "frame_dt": 0.02, "frames": 50 },
+  "gravity": [0, -981],
+  "materials": {
+    "meat": { "model": "qr_aniso", "E": 100, "nu": 0.25, "rho": 2, "fiber_scale": [50] }
+  },
+  "objects": [
+    { "shape": { "type": "box", "min": [0.3, 0.3], "max": [0.7, 0.7],
+                 "transform": { "rotate": 45 } },
+      "material": "meat", "fibers": { "type": "constant", "a1": [1, 0] } }
+  ],
+  "boundaries": [
+    { "type": "sticky", "shape": { "type": "half_space", "point": [0, 0.1], "normal": [0, 1] } }
+  ]
+})"), "docs_example.json");
+  EXPECT_EQ(b.name, "docs_example");
+}
+
+TEST(SceneLoad, ResolvedSceneReloadsToItself) {
+  for (const json& doc : {test::minimal_scene_2d(), rich_scene_3d()}) {
+    Scene a = parse_scene(doc, "a.json");
+    // Through text, as `tear run` writes DIR/scene.json.
+    std::string file = test::write_temp("resolved_" + std::to_string(a.dim) + ".json",
+                                        a.resolved.dump(2));
+    Scene b = load_scene(file);
+    EXPECT_EQ(a.resolved, b.resolved);
+    EXPECT_EQ(b.resolved["name"], "a");  // the name is kept, not re-derived from the file
+    Scene c = parse_scene(b.resolved, "c.json");
+    EXPECT_EQ(c.resolved.dump(), b.resolved.dump());
+  }
+}
+
+TEST(SceneLoad, MissingFileAndBadJsonAreSceneErrors) {
+  try {
+    load_scene("/nonexistent/dir/x.json");
+    FAIL();
+  } catch (const SceneError& e) {
+    EXPECT_STREQ(e.what(), "/nonexistent/dir/x.json: (file): cannot open file");
+  }
+  std::string file = test::write_temp("syntax.json", "{ \"dim\": 2,\n  \"grid\": { ] }");
+  try {
+    load_scene(file);
+    FAIL();
+  } catch (const SceneError& e) {
+    std::string msg = e.what();
+    EXPECT_EQ(msg.rfind(file + ": (file): invalid JSON: parse error at line 2", 0), 0u) << msg;
+  }
+}
+
+TEST(SceneOverrides, SetValuesAndArrayElements) {
+  std::string file = test::write_temp("over.json", test::minimal_scene_2d().dump());
+  Scene s = load_scene(file, {"materials.jelly.E=5000", "grid.domain_max.1=2",
+                              "objects.0.ppc=9", "transfer=flip", "time.frames=7",
+                              "objects.0.shape.min=[0.1, 0.1]"});
+  EXPECT_EQ(s.materials[0].params.E, Real(5000));
+  EXPECT_DOUBLE_EQ(s.domain_max.y(), 2);
+  EXPECT_EQ(s.objects[0].ppc, 9);
+  EXPECT_EQ(s.transfer, Transfer::Flip);  // "flip" is not JSON, so taken as a string
+  EXPECT_EQ(s.frames, 7);
+  EXPECT_DOUBLE_EQ(s.objects[0].shape.min.x(), 0.1);
+  EXPECT_EQ(s.resolved["materials"]["jelly"]["E"], 5000.0);
+  // A new key under an existing object is set, then validated like any other key.
+  s = load_scene(file, {"time.cfl=0.5"});
+  EXPECT_DOUBLE_EQ(s.cfl, 0.5);
+}
+
+std::string override_error(const std::vector<std::string>& ov) {
+  std::string file = test::write_temp("over_bad.json", test::minimal_scene_2d().dump());
+  try {
+    load_scene(file, ov);
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(SceneOverrides, BadOverridesFailClearly) {
+  EXPECT_NE(override_error({"materials.steel.E=1"})
+                .find("materials.steel.E: override \"materials.steel.E=1\": \"materials.steel\" "
+                      "does not exist"),
+            std::string::npos);
+  EXPECT_NE(override_error({"objects.3.ppc=1"}).find("\"objects.3\" does not exist (array of 1 entries)"),
+            std::string::npos);
+  EXPECT_NE(override_error({"objects.x.ppc=1"}).find("\"objects.x\" does not exist"),
+            std::string::npos);
+  EXPECT_NE(override_error({"dim.x=1"}).find("\"dim\" is an integer (2), not an object or array"),
+            std::string::npos);
+  EXPECT_NE(override_error({"grid.dx"}).find("(override): override \"grid.dx\" must look like a.b.c=VALUE"),
+            std::string::npos);
+  // Values set by overrides are validated with the normal path.
+  EXPECT_NE(override_error({"materials.jelly.nu=0.7"})
+                .find("materials.jelly.nu: must be in (-1, 0.5), got 0.7"),
+            std::string::npos);
+  EXPECT_NE(override_error({"time.fps=30"}).find("time.fps: unknown key"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace tear

@@ -1,0 +1,45 @@
+// Shared helpers for the scene tests: a minimal valid scene and error capture.
+#pragma once
+
+#include "tear/scene/scene.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace tear::test {
+
+// Smallest valid 2D scene: one box of "jelly".
+inline nlohmann::json minimal_scene_2d() {
+  return nlohmann::json::parse(R"({
+    "dim": 2,
+    "grid": { "dx": 0.05, "domain_min": [0, 0], "domain_max": [1, 1] },
+    "time": { "frame_dt": 0.01, "frames": 2 },
+    "materials": { "jelly": { "model": "neo_hookean", "E": 1000, "nu": 0.3, "rho": 2 } },
+    "objects": [ { "shape": { "type": "box", "min": [0.2, 0.2], "max": [0.6, 0.6] },
+                   "material": "jelly" } ]
+  })");
+}
+
+// The SceneError message of parsing `doc`, or "" when it parses.
+inline std::string scene_error(const nlohmann::json& doc, const std::string& file = "broken.json") {
+  try {
+    parse_scene(doc, file);
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// A fresh file under the test temp dir holding `text`.
+inline std::string write_temp(const std::string& name, const std::string& text) {
+  std::filesystem::path dir = std::filesystem::temp_directory_path() / "tear_scene_tests";
+  std::filesystem::create_directories(dir);
+  std::filesystem::path p = dir / name;
+  std::ofstream(p) << text;
+  return p.string();
+}
+
+}  // namespace tear::test
