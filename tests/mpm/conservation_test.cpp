@@ -104,3 +104,21 @@ TEST(Determinism, SameBitsRunToRun) { EXPECT_EQ(run_state<3>(2), run_state<3>(2)
 
 }  // namespace
 }  // namespace tear
+
+namespace tear {
+namespace {
+
+TEST(Stability, BlowUpIsReportedAsAnErrorNotACrash) {
+  // Steps 50x over the CFL limit blow up; the next binning must say so with a clear error.
+  MpmSolver<2> sim = spinning_block<2>(Transfer::Apic);
+  const double dt = 50 * sim.estimate_dt();
+  try {
+    for (int i = 0; i < 2000; ++i) sim.step(dt);
+    FAIL() << "expected the run to blow up";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("unstable"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace tear

@@ -76,7 +76,7 @@ nlohmann::json bench_step(long particles, int steps, int threads) {
   s.objects.push_back(o);
 
   MpmSolver<3> sim(s);
-  const double dt = 2e-4;
+  const double dt = sim.estimate_dt();  // fixed, so every thread count does the same work
   sim.step(dt);  // warm-up: first binning, allocation
   const PhaseTimes before = sim.phase_times();
   const auto t0 = Clock::now();

@@ -1,5 +1,8 @@
 #include "tear/grid/sparse_grid.h"
 
+#include <atomic>
+#include <stdexcept>
+
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -38,7 +41,15 @@ void SparseGrid<Dim>::bin(const std::vector<Vec<Dim>>& x) {
   const size_t n = x.size();
   particle_slot_.resize(n);
   const Real inv_dx = Real(1 / dx_);
+  // Positions are clamped inside the domain, so only a NaN or infinity (an unstable run)
+  // can fall outside the slot table; that is the user's problem to hear about, not an abort.
+  std::atomic<bool> non_finite{false};
   tbb::parallel_for(size_t(0), n, [&](size_t p) {
+    if (!x[p].allFinite()) {
+      non_finite = true;
+      particle_slot_[p] = 0;
+      return;
+    }
     IVec<Dim> b;
     for (int d = 0; d < Dim; ++d) {
       const int base = BSpline1D<3>::base_node((x[p][d] - origin_[d]) * inv_dx) + kPad;
@@ -47,6 +58,10 @@ void SparseGrid<Dim>::bin(const std::vector<Vec<Dim>>& x) {
     }
     particle_slot_[p] = slot_of(b);
   });
+  if (non_finite)
+    throw std::runtime_error(
+        "the simulation became unstable (non-finite particle positions); lower time.cfl or "
+        "time.max_dt, or check material stiffness against the time step");
 
   // Reset the previous activation, then count particles per home slot.
   for (int s : block_slot_) table_[s] = -1;
