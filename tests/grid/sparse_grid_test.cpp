@@ -1,6 +1,7 @@
 #include "tear/grid/boundary.h"
 #include "tear/grid/sparse_grid.h"
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include <random>
@@ -109,6 +110,79 @@ TEST(Boundary, ColliderMovesOnlyDuringItsWindow) {
   EXPECT_TRUE(s.active);
   EXPECT_TRUE(s.displacement.isApprox(Vec3d(0.5, 0, 0)));
   EXPECT_FALSE(collider_state(b, 2.5).active);
+}
+
+// Every active node of a grid over [0.2, 0.8]^2 with unit mass and velocity `v`.
+SparseGrid<2> filled_grid(const Vec<2>& v) {
+  SparseGrid<2> g;
+  g.setup(Vec3d::Zero(), Vec3d::Ones(), 1.0 / 32);
+  g.bin(random_points<2>(4000, 0.2, 0.8, 7));
+  for (size_t i = 0; i < g.mass.size(); ++i) g.mass[i] = 1, g.velocity[i] = v;
+  return g;
+}
+
+TEST(Boundary, SpinningStickyColliderImposesRigidVelocity) {
+  SparseGrid<2> g = filled_grid(Vec<2>(3, 3));
+  BoundarySpec b;
+  b.type = WallType::Sticky;
+  b.shape.type = Shape::Type::Box;
+  b.shape.dim = 2;
+  b.shape.min = Vec3d(0.4, 0.4, 0);
+  b.shape.max = Vec3d(0.6, 0.6, 0);
+  b.velocity = Vec3d(0.1, 0, 0);
+  b.angular_velocity = Vec3d(0, 0, 2);
+  const double t = 0.25;  // moved by 0.025 and turned by 0.5 rad about its centre
+  apply_boundaries<2>(g, WallType::None, {b}, t);
+  const Vec3d centre(0.5 + 0.1 * t, 0.5, 0);
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.5, Vec3d::UnitZ()).toRotationMatrix();
+  int inside = 0, outside = 0;
+  for (size_t i = 0; i < g.mass.size(); ++i) {
+    const Vec<2> x = g.node_position(int(i));
+    const Vec3d local = R.transpose() * (Vec3d(x[0], x[1], 0) - centre);
+    const bool in = local.head<2>().cwiseAbs().maxCoeff() < 0.1 - 1e-9;
+    const bool out = local.head<2>().cwiseAbs().maxCoeff() > 0.1 + 1e-9;
+    if (in) {
+      const Vec3d rigid = b.velocity + b.angular_velocity.cross(Vec3d(x[0], x[1], 0) - centre);
+      EXPECT_LT((g.velocity[i] - rigid.head<2>()).norm(), 1e-12);
+      ++inside;
+    } else if (out) {
+      EXPECT_EQ(g.velocity[i], Vec<2>(3, 3));
+      ++outside;
+    }
+  }
+  EXPECT_GT(inside, 20);
+  EXPECT_GT(outside, 100);
+}
+
+TEST(Boundary, HalfSpaceAndDomainWallsStopApproachingNodes) {
+  SparseGrid<2> g = filled_grid(Vec<2>(0.5, -1));
+  BoundarySpec floor;
+  floor.type = WallType::Separate;
+  floor.friction = 0.25;
+  floor.shape.type = Shape::Type::HalfSpace;
+  floor.shape.dim = 2;
+  floor.shape.point = Vec3d(0, 0.5, 0);
+  floor.shape.normal = Vec3d(0, 1, 0);
+  apply_boundaries<2>(g, WallType::Sticky, {floor}, 0);
+  int wall = 0, below = 0, above = 0;
+  for (size_t i = 0; i < g.mass.size(); ++i) {
+    const Vec<2> x = g.node_position(int(i));
+    const IVec<2> c = g.node_coord(int(i));
+    if (c.minCoeff() < kWallNodes || c.maxCoeff() > g.num_nodes().maxCoeff() - 1 - kWallNodes) {
+      EXPECT_TRUE(g.velocity[i].isZero());  // sticky domain wall
+      ++wall;
+    } else if (x[1] < 0.5 - 1e-9) {
+      // Inside the floor: normal part removed, tangent reduced by friction * |v_n| = 0.25.
+      EXPECT_LT((g.velocity[i] - Vec<2>(0.25, 0)).norm(), 1e-12) << g.velocity[i].transpose();
+      ++below;
+    } else if (x[1] > 0.5 + 1e-9) {
+      EXPECT_EQ(g.velocity[i], Vec<2>(0.5, -1));
+      ++above;
+    }
+  }
+  EXPECT_GT(wall, 50);
+  EXPECT_GT(below, 100);
+  EXPECT_GT(above, 100);
 }
 
 }  // namespace
