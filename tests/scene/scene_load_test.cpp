@@ -14,7 +14,7 @@ json rich_scene_3d() {
     "time": { "frame_dt": 0.02, "frames": 10, "max_dt": 5e-4 },
     "gravity": [0, -981, 0],
     "transfer": "flip", "flip_ratio": 0.9,
-    "damage": { "solver": "explicit", "zeta": 2 },
+    "damage": { "solver": "none", "zeta": 2 },
     "materials": {
       "meat": { "model": "qr_aniso", "E": 100, "nu": 0.25, "rho": 2, "fiber_scale": [50, 5],
                 "damage": { "sigma_c": 0.35, "eta": 0.1, "alpha": -1 } },
@@ -92,7 +92,7 @@ TEST(SceneLoad, RichSceneIsParsed) {
   EXPECT_DOUBLE_EQ(s.boundaries[0].friction, 0.3);
   EXPECT_DOUBLE_EQ(s.boundaries[1].end, 0.5);
   EXPECT_DOUBLE_EQ(s.boundaries[0].end, 1e30);
-  EXPECT_EQ(s.damage.solver, DamageSolver::Explicit);
+  EXPECT_EQ(s.damage.solver, DamageSolver::None);
   EXPECT_DOUBLE_EQ(s.flip_ratio, 0.9);
 }
 
@@ -107,7 +107,7 @@ TEST(SceneLoad, DocumentedExamplesLoad) {
   "gravity": [0, -981],
   "transfer": "apic",
   "integrator": "explicit",
-  "damage": { "solver": "explicit", "l0": null, "zeta": 1.0, "transfer": "flip" },
+  "damage": { "solver": "none", "l0": null, "zeta": 1.0, "transfer": "flip" },
   "materials": {
     "fibrous": {
       "model": "qr_aniso", "E": 100, "nu": 0.25, "rho": 2,
@@ -132,7 +132,7 @@ TEST(SceneLoad, DocumentedExamplesLoad) {
   "output": { "every": 1, "formats": ["ply"], "checkpoint_every": 10 }
 })"), "scene_format.json");
   EXPECT_EQ(a.name, "diagonal_block_tear");
-  EXPECT_EQ(a.damage.solver, DamageSolver::Explicit);
+  EXPECT_EQ(a.damage.solver, DamageSolver::None);
   EXPECT_DOUBLE_EQ(a.damage.l0, 0.005);
   EXPECT_DOUBLE_EQ(a.materials[0].damage.alpha[0], -1);
   EXPECT_EQ(a.boundaries.size(), 2u);
