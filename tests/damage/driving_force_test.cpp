@@ -1,0 +1,120 @@
+#include "tear/damage/driving_force.h"
+#include "tear/math/qr.h"
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace tear {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+Mat<2> frame2(double degrees) {
+  const double t = degrees * kPi / 180;
+  Mat<2> D;
+  D << std::cos(t), -std::sin(t), std::sin(t), std::cos(t);
+  return D;
+}
+
+TEST(Degradation, EndPointsAndMonotone) {
+  EXPECT_EQ(degradation(0, 0.01), 1);
+  EXPECT_DOUBLE_EQ(degradation(1, 0.01), 0.01);
+  double prev = 2;
+  for (int k = 0; k <= 10; ++k) {
+    const double g = degradation(k / 10.0, 0.05);
+    EXPECT_LT(g, prev);
+    prev = g;
+  }
+}
+
+TEST(TensilePart, KeepsOnlyPositiveEigenvalues) {
+  Mat<3> s = Mat<3>::Zero();
+  s.diagonal() << 2, -1, 0.5;
+  const Mat<3> Q = Eigen::AngleAxis<Real>(0.7, Vec<3>(1, 2, 3).normalized()).toRotationMatrix();
+  Mat<3> expected = Mat<3>::Zero();
+  expected.diagonal() << 2, 0, 0.5;
+  EXPECT_LT((tensile_part<3>(Q * s * Q.transpose()) - Q * expected * Q.transpose()).norm(), 1e-12);
+  EXPECT_LT(tensile_part<2>(-Mat<2>::Identity()).norm(), 1e-15);
+}
+
+TEST(DrivingForce, TensionAlongTheFiberDoesNotDriveCracksAcrossItDoes) {
+  const Real alpha[2] = {-1, 0};
+  const double s = 3, sigma_c = 2;
+  const Mat<2> D = frame2(30);
+  const Vec<2> a1 = D.col(0), a2 = D.col(1);
+  const Mat<2> A = structural_tensor<2>(Mat<2>::Identity(), D, alpha);
+  EXPECT_NEAR(driving_phi<2>(s * a1 * a1.transpose(), A, sigma_c), 0, 1e-14);
+  EXPECT_NEAR(driving_phi<2>(s * a2 * a2.transpose(), A, sigma_c), (s / sigma_c) * (s / sigma_c),
+              1e-12);
+  // Compression drives nothing, whatever the fibers.
+  EXPECT_NEAR(driving_phi<2>(-s * a2 * a2.transpose(), A, sigma_c), 0, 1e-20);
+}
+
+// Paper Fig. 11: uniaxial tension s along n, alpha1 = -1, fibers at angle theta to n:
+// Phi = (s / sigma_c)^2 sin^4(theta); isotropic: (s / sigma_c)^2 in every direction.
+TEST(DrivingForce, FourFiberDirectionsOfFigure11) {
+  const double s = 1.5, sigma_c = 1;
+  struct Row {
+    double fiber_deg;
+    Real alpha1;
+  };
+  for (const Row& row : {Row{0, -1}, Row{45, -1}, Row{90, -1}, Row{0, 0}}) {
+    const Real alpha[2] = {row.alpha1, 0};
+    const Mat<2> A = structural_tensor<2>(Mat<2>::Identity(), frame2(row.fiber_deg), alpha);
+    for (double load_deg : {0.0, 30.0, 45.0, 90.0, 135.0}) {
+      const Vec<2> n = frame2(load_deg).col(0);
+      const double theta = (load_deg - row.fiber_deg) * kPi / 180;
+      const double expected =
+          s * s * (row.alpha1 == 0 ? 1.0 : std::pow(std::sin(theta), 4)) / (sigma_c * sigma_c);
+      EXPECT_NEAR(driving_phi<2>(s * n * n.transpose(), A, sigma_c), expected, 1e-12)
+          << "fiber " << row.fiber_deg << " load " << load_deg;
+    }
+  }
+}
+
+TEST(DrivingForce, RotatingTheBodyRotatesTheStructuralTensor) {
+  const MaterialParams m = make_material(Model::QrAniso, 1000, 0.3, 1, 5, 2);
+  const Real alpha[2] = {-1, -0.5};
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-0.2, 0.2);
+  for (int k = 0; k < 10; ++k) {
+    Mat<3> F = Mat<3>::Identity(), B;
+    for (int i = 0; i < 9; ++i) F.data()[i] += u(rng), B.data()[i] = u(rng);
+    Mat<3> D, R;
+    qr_decompose<3>(Mat<3>::Identity() + B, &D, &R);
+    const Mat<3> Q = Eigen::AngleAxis<Real>(1.1 * k, Vec<3>(1, -2, 0.5).normalized()).toRotationMatrix();
+    const Mat<3> A = structural_tensor<3>(F, D, alpha);
+    EXPECT_LT((structural_tensor<3>(Q * F, D, alpha) - Q * A * Q.transpose()).norm(), 1e-10);
+    const Real phi = particle_phi<3>(m, F, D, alpha, 10);
+    EXPECT_NEAR(particle_phi<3>(m, Q * F, D, alpha, 10), phi, 1e-9 * (1 + phi));
+  }
+}
+
+TEST(DrivingForce, ParticleStretchedAcrossItsFibersTearsAlongThemDoesNot) {
+  // Uniaxial stretch of a qr_aniso particle; fibers along x, alpha1 = -1.
+  const MaterialParams m = make_material(Model::QrAniso, 1000, 0.0, 1, 0, 0);
+  const Real alpha[2] = {-1, 0};
+  const Mat<2> D = Mat<2>::Identity();
+  Mat<2> along = Mat<2>::Identity(), across = Mat<2>::Identity();
+  along(0, 0) = 1.1;
+  across(1, 1) = 1.1;
+  // Only the small nonlinear lateral stress of the stretch along the fibers drives damage.
+  const Real phi_along = particle_phi<2>(m, along, D, alpha, 10);
+  const Real phi_across = particle_phi<2>(m, across, D, alpha, 10);
+  EXPECT_GT(phi_across, 50);
+  EXPECT_LT(phi_along, 0.01 * phi_across);
+  const Real isotropic[2] = {0, 0};
+  // Isotropic: the same in both directions; the fibers remove the part along them only.
+  const Real iso = particle_phi<2>(m, along, D, isotropic, 10);
+  EXPECT_NEAR(particle_phi<2>(m, across, D, isotropic, 10), iso, 1e-9 * iso);
+  EXPECT_NEAR(iso, phi_across + phi_along, 1e-9 * iso);
+  Mat<2> inverted = Mat<2>::Identity();
+  inverted(1, 1) = -0.5;
+  EXPECT_EQ(particle_phi<2>(m, inverted, D, alpha, 10), 0);
+}
+
+}  // namespace
+}  // namespace tear
