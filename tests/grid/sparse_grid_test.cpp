@@ -64,7 +64,7 @@ TEST(SparseGrid, StencilWeightsArePartitionOfUnity) {
   auto x = random_points<3>(100, 0.2, 0.8, 5);
   g.bin(x);
   for (const auto& p : x) {
-    const Stencil<3, 2, true> st(g, p);
+    const Stencil<3, 2, kGradients> st(g, p);
     double sw = 0;
     Vec<3> swx = Vec<3>::Zero(), sg = Vec<3>::Zero();
     for (int q = 0; q < st.kSize; ++q) {
@@ -184,6 +184,54 @@ TEST(Boundary, HalfSpaceAndDomainWallsStopApproachingNodes) {
   EXPECT_GT(below, 100);
   EXPECT_GT(above, 100);
 }
+
+}  // namespace
+}  // namespace tear
+
+namespace tear {
+namespace {
+
+// The cubic-kernel Laplacian of a smooth field sampled on the grid nodes, evaluated at
+// particles: exact for quadratics (the cubic B-spline reproduces them up to a constant
+// shift, which the Laplacian removes) and second-order accurate for a cosine.
+template <int Dim>
+void check_laplacian() {
+  std::vector<double> errors;
+  for (double dx : {1.0 / 32, 1.0 / 64}) {
+    SparseGrid<Dim> g;
+    g.setup(Vec3d::Zero(), Vec3d::Ones(), dx);
+    const auto x = random_points<Dim>(300, 0.3, 0.7, 11);
+    g.bin(x);
+    g.zero_scalar_fields();
+    auto quadratic = [](const Vec<Dim>& p) { return 3 * p[0] * p[0] - p[0] * p[1] + 2 * p[1] * p[1]; };
+    auto wave = [](const Vec<Dim>& p) { return std::cos(4 * p[0]) * std::cos(3 * p[1]); };
+    for (int field = 0; field < 2; ++field) {
+      for (size_t i = 0; i < g.scalar.size(); ++i) {
+        const Vec<Dim> p = g.node_position(int(i));
+        g.scalar[i] = field == 0 ? quadratic(p) : wave(p);
+      }
+      double worst = 0;
+      for (const auto& p : x) {
+        const Stencil<Dim, 3, kLaplacians> st(g, p);
+        double lap = 0;
+        for (int q = 0; q < st.kSize; ++q) lap += st.lap_w(q) * g.scalar[st.node[q]];
+        const double exact = field == 0 ? 10.0 : -25.0 * wave(p);
+        worst = std::max(worst, std::abs(lap - exact));
+      }
+      if (field == 0) {
+        EXPECT_LT(worst, 1e-8) << "quadratic, dx " << dx;
+      } else {
+        errors.push_back(worst);
+      }
+    }
+  }
+  // Halving dx divides the error by about 4.
+  EXPECT_LT(errors[0], 0.1);  // 0.4% of max|Lap f| = 25 at dx = 1/32
+  EXPECT_GT(errors[0] / errors[1], 3.0);
+}
+
+TEST(Stencil, CubicLaplacianIsExactForQuadraticsAndSecondOrder2D) { check_laplacian<2>(); }
+TEST(Stencil, CubicLaplacianIsExactForQuadraticsAndSecondOrder3D) { check_laplacian<3>(); }
 
 }  // namespace
 }  // namespace tear

@@ -127,6 +127,17 @@ void SparseGrid<Dim>::bin(const std::vector<Vec<Dim>>& x) {
 }
 
 template <int Dim>
+void SparseGrid<Dim>::zero_scalar_fields() {
+  const size_t nodes = num_active_nodes();
+  if (scalar.size() < nodes) scalar.resize(nodes), scalar_weight.resize(nodes);
+  tbb::parallel_for(size_t(0), block_slot_.size(), [&](size_t blk) {
+    const size_t a = blk * kNodesPerBlock;
+    std::fill(scalar.begin() + a, scalar.begin() + a + kNodesPerBlock, Real(0));
+    std::fill(scalar_weight.begin() + a, scalar_weight.begin() + a + kNodesPerBlock, Real(0));
+  });
+}
+
+template <int Dim>
 IVec<Dim> SparseGrid<Dim>::node_coord(int node) const {
   const IVec<Dim> b = slot_coord(block_slot_[node / kNodesPerBlock]);
   int local = node % kNodesPerBlock;
@@ -156,6 +167,7 @@ template <int Dim>
 size_t SparseGrid<Dim>::memory_bytes() const {
   return table_.size() * (sizeof(int) + sizeof(uint32_t)) +
          mass.capacity() * (sizeof(Real) + 2 * sizeof(Vec<Dim>)) +
+         scalar.capacity() * 2 * sizeof(Real) +
          order_.capacity() * sizeof(uint32_t) + particle_slot_.capacity() * sizeof(int);
 }
 

@@ -70,10 +70,16 @@ class SparseGrid {
   // Bytes held by the table and node fields.
   size_t memory_bytes() const;
 
+  // Size and zero the scalar node fields of the active blocks (bin() leaves them alone:
+  // only the damage solvers use them).
+  void zero_scalar_fields();
+
   // Node fields (indexed by storage index).
   std::vector<Real> mass;
   std::vector<Vec<Dim>> velocity;      // momentum during P2G, velocity after the grid update
   std::vector<Vec<Dim>> velocity_old;  // velocity before forces (FLIP)
+  std::vector<Real> scalar;            // a transferred scalar (damage d_i)
+  std::vector<Real> scalar_weight;     // its weights (sum_p w_ip)
 
  private:
   int slot_of(const IVec<Dim>& b) const {
@@ -97,8 +103,13 @@ class SparseGrid {
 };
 
 // Weights and node indices of one particle's B-spline stencil (Order 2 or 3).
-template <int Dim, int Order, bool kGradients = false>
+// What a Stencil computes besides node indices, weights and x_i - x_p.
+enum StencilExtras { kWeightsOnly = 0, kGradients = 1, kLaplacians = 2 };
+
+template <int Dim, int Order, int kExtras = kWeightsOnly>
 struct Stencil {
+  static constexpr bool kGrad = (kExtras & kGradients) != 0;
+  static constexpr bool kLap = (kExtras & kLaplacians) != 0;
   static constexpr int kWidth = Order + 1;
   static constexpr int kSize = Dim == 2 ? kWidth * kWidth : kWidth * kWidth * kWidth;
   int node[kSize];
@@ -109,15 +120,21 @@ struct Stencil {
   Vec<Dim> dpos(int q) const { return gather(dpos_, q); }
   // Gradient of N_i at x_p (world units); only with kGradients.
   Vec<Dim> grad_w(int q) const {
-    static_assert(kGradients, "Stencil: gradients were not requested");
+    static_assert(kGrad, "Stencil: gradients were not requested");
     return gather(grad_w_, q);
+  }
+  // Laplacian of N_i at x_p (world units); only with kLaplacians.
+  Real lap_w(int q) const {
+    static_assert(kLap, "Stencil: Laplacians were not requested");
+    return lap_w_[q];
   }
 
  private:
   // Components are stored axis-major (scalar stores, scalar loads): an array of Vec would be
   // written as scalars and read back as packed pairs, which defeats store forwarding.
   Real dpos_[Dim][kSize];
-  Real grad_w_[kGradients ? Dim : 1][kGradients ? kSize : 1];
+  Real grad_w_[kGrad ? Dim : 1][kGrad ? kSize : 1];
+  Real lap_w_[kLap ? kSize : 1];
   template <class A>
   static Vec<Dim> gather(const A& a, int q) {
     Vec<Dim> v;
@@ -147,8 +164,8 @@ inline void SparseGrid<Dim>::neighbourhood(const Vec<Dim>& xg, std::array<int, k
   }
 }
 
-template <int Dim, int Order, bool kGradients>
-inline Stencil<Dim, Order, kGradients>::Stencil(const SparseGrid<Dim>& grid, const Vec<Dim>& x) {
+template <int Dim, int Order, int kExtras>
+inline Stencil<Dim, Order, kExtras>::Stencil(const SparseGrid<Dim>& grid, const Vec<Dim>& x) {
   using G = SparseGrid<Dim>;
   const Real inv_dx = Real(1 / grid.dx());
   const Vec<Dim> xg = (x - grid.origin()) * inv_dx;
@@ -157,7 +174,7 @@ inline Stencil<Dim, Order, kGradients>::Stencil(const SparseGrid<Dim>& grid, con
   grid.neighbourhood(xg, &ids, &home);
   // Per axis: which neighbour block (bit), the local offset inside it, weights.
   int bit[Dim][kWidth], local[Dim][kWidth];
-  Real w1[Dim][kWidth], dw1[Dim][kWidth], rel[Dim][kWidth];
+  Real w1[Dim][kWidth], dw1[Dim][kWidth], ddw1[Dim][kWidth], rel[Dim][kWidth];
   for (int d = 0; d < Dim; ++d) {
     const BSpline1D<Order> s(xg[d]);
     for (int k = 0; k < kWidth; ++k) {
@@ -166,6 +183,7 @@ inline Stencil<Dim, Order, kGradients>::Stencil(const SparseGrid<Dim>& grid, con
       local[d][k] = (gp & (G::kBlock - 1)) << (G::kLogBlock * d);
       w1[d][k] = s.w[k];
       dw1[d][k] = s.dw[k] * inv_dx;
+      ddw1[d][k] = s.ddw[k] * inv_dx * inv_dx;
       rel[d][k] = (Real(s.base + k) - xg[d]) * Real(grid.dx());
     }
   }
@@ -176,10 +194,11 @@ inline Stencil<Dim, Order, kGradients>::Stencil(const SparseGrid<Dim>& grid, con
         node[q] = ids[bit[0][i] | bit[1][j]] * G::kNodesPerBlock + local[0][i] + local[1][j];
         w[q] = w1[0][i] * w1[1][j];
         dpos_[0][q] = rel[0][i], dpos_[1][q] = rel[1][j];
-        if constexpr (kGradients) {
+        if constexpr (kGrad) {
           grad_w_[0][q] = dw1[0][i] * w1[1][j];
           grad_w_[1][q] = w1[0][i] * dw1[1][j];
         }
+        if constexpr (kLap) lap_w_[q] = ddw1[0][i] * w1[1][j] + w1[0][i] * ddw1[1][j];
       }
   } else {
     for (int k = 0; k < kWidth; ++k)
@@ -189,10 +208,14 @@ inline Stencil<Dim, Order, kGradients>::Stencil(const SparseGrid<Dim>& grid, con
                     local[1][j] + local[2][k];
           w[q] = w1[0][i] * w1[1][j] * w1[2][k];
           dpos_[0][q] = rel[0][i], dpos_[1][q] = rel[1][j], dpos_[2][q] = rel[2][k];
-          if constexpr (kGradients) {
+          if constexpr (kGrad) {
             grad_w_[0][q] = dw1[0][i] * w1[1][j] * w1[2][k];
             grad_w_[1][q] = w1[0][i] * dw1[1][j] * w1[2][k];
             grad_w_[2][q] = w1[0][i] * w1[1][j] * dw1[2][k];
+          }
+          if constexpr (kLap) {
+            lap_w_[q] = ddw1[0][i] * w1[1][j] * w1[2][k] + w1[0][i] * ddw1[1][j] * w1[2][k] +
+                        w1[0][i] * w1[1][j] * ddw1[2][k];
           }
         }
   }
