@@ -64,7 +64,7 @@ const BrokenScene kBroken[] = {
     {R"({"dim": "2"})", "dim: must be an integer, got a string"},
     {R"({"seed": -1})", "seed: must be >= 0, got -1"},
     {R"({"damage": {"solver": "magic"}})", "damage.solver: unknown value \"magic\""},
-    {R"({"damage": {"solver": "explicit"}})", "damage.solver: \"explicit\": not implemented yet"},
+    {R"({"damage": {"solver": "implicit"}})", "damage.solver: \"implicit\": not implemented yet"},
     {R"({"damage": {"l0": -1}})", "damage.l0: must be > 0, got -1"},
     {R"({"damage": {"transfer": "apic"}})", "damage.transfer: unknown value \"apic\""},
     {R"({"objects": [{"shape": {"type": "sphere", "center": [0.5, 0.5], "radius": -1},

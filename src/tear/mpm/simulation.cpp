@@ -13,7 +13,8 @@
 namespace tear {
 
 nlohmann::json PhaseTimes::to_json() const {
-  return {{"sort", sort}, {"p2g", p2g}, {"grid", grid}, {"g2p", g2p}, {"other", other}};
+  return {{"sort", sort}, {"damage", damage}, {"p2g", p2g}, {"grid", grid}, {"g2p", g2p},
+          {"other", other}};
 }
 
 nlohmann::json FrameStats::to_json() const {
@@ -37,7 +38,7 @@ nlohmann::json FrameStats::to_json() const {
 
 namespace {
 
-const std::string kCheckpointMagic = "TEARCKP1";
+const std::string kCheckpointMagic = "TEARCKP2";
 
 template <int Dim>
 class MpmSimulation final : public Simulation {
@@ -168,6 +169,7 @@ class MpmSimulation final : public Simulation {
     w.put_vector(p.mass);
     w.put_vector(p.vol0);
     w.put_vector(p.damage);
+    w.put_vector(p.drive);
     w.put_vector(p.id);
     w.put_vector(p.material);
     w.put_vector(solver_.slots_at_reorder());
@@ -200,11 +202,13 @@ class MpmSimulation final : public Simulation {
     r.get_vector(&p.mass);
     r.get_vector(&p.vol0);
     r.get_vector(&p.damage);
+    r.get_vector(&p.drive);
     r.get_vector(&p.id);
     r.get_vector(&p.material);
     r.get_vector(&slots);
     for (size_t size : {p.v.size(), p.C.size(), p.F.size(), p.fiber.size(), p.mass.size(),
-                        p.vol0.size(), p.damage.size(), p.id.size(), p.material.size()}) {
+                        p.vol0.size(), p.damage.size(), p.drive.size(), p.id.size(),
+                        p.material.size()}) {
       if (size != p.x.size()) throw std::runtime_error("corrupt checkpoint (array sizes differ)");
     }
     if (p.x.size() != n || (!slots.empty() && slots.size() != n))

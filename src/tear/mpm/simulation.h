@@ -15,7 +15,7 @@ namespace tear {
 
 // Wall-clock seconds spent in each phase since the simulation started.
 struct PhaseTimes {
-  double sort = 0, p2g = 0, grid = 0, g2p = 0, other = 0;
+  double sort = 0, damage = 0, p2g = 0, grid = 0, g2p = 0, other = 0;
   nlohmann::json to_json() const;
 };
 

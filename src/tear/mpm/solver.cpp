@@ -1,5 +1,6 @@
 #include "tear/mpm/solver.h"
 
+#include "tear/damage/driving_force.h"
 #include "tear/grid/boundary.h"
 #include "tear/math/parallel.h"
 #include "tear/scene/sampling.h"
@@ -29,7 +30,10 @@ MpmSolver<Dim>::MpmSolver(const Scene& scene) : MpmSolver(scene, sample_scene<Di
 template <int Dim>
 MpmSolver<Dim>::MpmSolver(const Scene& scene, Particles<Dim> particles)
     : scene_(scene), p_(std::move(particles)) {
-  for (const MaterialSpec& m : scene_.materials) mats_.push_back(m.params);
+  for (const MaterialSpec& m : scene_.materials) {
+    mats_.push_back(m.params);
+    damage_.push_back(m.damage);
+  }
   gravity_ = scene_.gravity.template head<Dim>().template cast<Real>();
   grid_.setup(scene_.domain_min, scene_.domain_max, scene_.dx);
   for (int d = 0; d < Dim; ++d) {
@@ -79,6 +83,69 @@ void MpmSolver<Dim>::sort_particles() {
 }
 
 template <int Dim>
+Real MpmSolver<Dim>::degradation_of(size_t p) const {
+  const DamageSpec& d = damage_[p_.material[p]];
+  return d.enabled ? degradation(p_.damage[p], Real(d.residual)) : Real(1);
+}
+
+template <int Dim>
+void MpmSolver<Dim>::damage_explicit(Real dt) {
+  const Real zeta = Real(scene_.damage.zeta), l0 = Real(scene_.damage.l0);
+  // Driving force with history, from the undegraded stress of the current F.
+  tbb::parallel_for(size_t(0), p_.size(), [&](size_t p) {
+    const DamageSpec& ds = damage_[p_.material[p]];
+    if (!ds.enabled) return;
+    const Real alpha[2] = {Real(ds.alpha[0]), Real(ds.alpha[1])};
+    const Real phi =
+        particle_phi<Dim>(mats_[p_.material[p]], p_.F[p], p_.fiber[p], alpha, Real(ds.sigma_c));
+    p_.drive[p] = std::max(p_.drive[p], zeta * std::max(phi - 1, Real(0)));
+  });
+  // Damage to the grid (cubic B-spline, normalised), coloured like the momentum P2G. While
+  // nothing is damaged the field and its Laplacian are zero: skip the transfer.
+  const bool any_damage =
+      parallel_max<Real>(p_.size(), [&](size_t p) { return p_.damage[p]; }, Real(0)) > 0;
+  if (any_damage) {
+    grid_.zero_scalar_fields();
+    const auto& order = grid_.order();
+    const auto& homes = grid_.home_blocks();
+    for (int c = 0; c < SparseGrid<Dim>::kColours; ++c) {
+      const std::vector<int>& blocks = grid_.colour(c);
+      tbb::parallel_for(size_t(0), blocks.size(), [&](size_t b) {
+        const auto& h = homes[blocks[b]];
+        for (uint32_t k = h.begin; k < h.end; ++k) {
+          const uint32_t p = order[k];
+          const Stencil<Dim, 3> st(grid_, p_.x[p]);
+          for (int q = 0; q < st.kSize; ++q) {
+            grid_.scalar[st.node[q]] += st.w[q] * p_.damage[p];
+            grid_.scalar_weight[st.node[q]] += st.w[q];
+          }
+        }
+      });
+    }
+    tbb::parallel_for(size_t(0), grid_.scalar.size(), [&](size_t i) {
+      if (grid_.scalar_weight[i] > 0) grid_.scalar[i] /= grid_.scalar_weight[i];
+    });
+  }
+  // Laplacian back to the particles, then the update: d grows where the undamaged part of
+  // the driving force beats the geometric resistance Dc = d - l0^2 Lap d (which also lets a
+  // crack widen to its regularised width l0).
+  tbb::parallel_for(size_t(0), p_.size(), [&](size_t p) {
+    const DamageSpec& ds = damage_[p_.material[p]];
+    if (!ds.enabled) return;
+    Real lap = 0;
+    if (any_damage) {
+      const Stencil<Dim, 3, kLaplacians> st(grid_, p_.x[p]);
+      for (int q = 0; q < st.kSize; ++q) lap += st.lap_w(q) * grid_.scalar[st.node[q]];
+    }
+    const Real d = p_.damage[p];
+    const Real resistance = d - l0 * l0 * lap;
+    const Real drive = (1 - d) * p_.drive[p];
+    if (drive > resistance)
+      p_.damage[p] = std::min(Real(1), d + dt / Real(ds.eta) * (drive - resistance));
+  });
+}
+
+template <int Dim>
 void MpmSolver<Dim>::p2g(Real dt) {
   const Real inv_d = BSpline1D<kOrder>::kInvD / Real(scene_.dx * scene_.dx);
   const bool apic = scene_.transfer == Transfer::Apic;
@@ -93,7 +160,7 @@ void MpmSolver<Dim>::p2g(Real dt) {
         const uint32_t p = order[k];
         const Mat<Dim>& F = p_.F[p];
         const MaterialParams& mat = mats_[p_.material[p]];
-        const Mat<Dim> P = first_piola<Dim>(mat, F, p_.fiber[p]);
+        const Mat<Dim> P = first_piola<Dim>(mat, F, p_.fiber[p], degradation_of(p));
         // MLS-MPM: the stress enters as an affine momentum term (Hu et al. 2018, Eq. 29).
         Mat<Dim> affine = (-dt * p_.vol0[p] * inv_d) * (P * F.transpose());
         const Real m = p_.mass[p];
@@ -165,6 +232,11 @@ void MpmSolver<Dim>::step(double dt) {
   auto t0 = Clock::now();
   sort_particles();
   times_.sort += seconds_since(t0);
+  if (scene_.damage.solver == DamageSolver::Explicit) {
+    t0 = Clock::now();
+    damage_explicit(Real(dt));
+    times_.damage += seconds_since(t0);
+  }
   t0 = Clock::now();
   p2g(Real(dt));
   times_.p2g += seconds_since(t0);
@@ -227,8 +299,8 @@ double MpmSolver<Dim>::kinetic_energy() const {
 template <int Dim>
 double MpmSolver<Dim>::elastic_energy() const {
   return deterministic_sum<double>(p_.size(), [&](size_t i) {
-    return double(p_.vol0[i] *
-                  energy_density<Dim>(mats_[p_.material[i]], p_.F[i], p_.fiber[i]));
+    return double(p_.vol0[i] * energy_density<Dim>(mats_[p_.material[i]], p_.F[i], p_.fiber[i],
+                                                   degradation_of(i)));
   });
 }
 

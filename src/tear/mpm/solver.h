@@ -53,6 +53,11 @@ class MpmSolver {
 
  private:
   void sort_particles();
+  // Explicit phase-field damage (supplement Alg. 3-5, EQUATIONS.md §1): driving force with
+  // history, damage to the grid with the cubic B-spline, its Laplacian back, update.
+  void damage_explicit(Real dt);
+  // g(d) of particle p: 1 for materials without damage.
+  Real degradation_of(size_t p) const;
   void p2g(Real dt);
   void grid_update(Real dt);
   void g2p(Real dt);
@@ -61,6 +66,7 @@ class MpmSolver {
   Particles<Dim> p_;
   SparseGrid<Dim> grid_;
   std::vector<MaterialParams> mats_;
+  std::vector<DamageSpec> damage_;  // per material; enabled = false: never damaged
   Vec<Dim> gravity_ = Vec<Dim>::Zero();
   Vec<Dim> lo_, hi_;  // particles are kept inside [lo, hi]
   std::vector<int> slot_at_permute_;  // home slots when particles were last reordered

@@ -18,7 +18,8 @@ struct Particles {
   std::vector<Mat<Dim>> fiber;  // rest fiber frame D = [a1 a2 (a3)], orthonormal columns
   std::vector<Real> mass;
   std::vector<Real> vol0;       // rest volume
-  std::vector<Real> damage;     // phase-field damage d in [0, 1]
+  std::vector<Real> damage;     // phase-field damage d in [0, 1], never decreasing
+  std::vector<Real> drive;      // crack driving force history Dtilde^H, never decreasing
   std::vector<uint32_t> id;     // stable identity across reorderings
   std::vector<uint16_t> material;
 
@@ -31,7 +32,7 @@ struct Particles {
   void permute(const std::vector<uint32_t>& order);
   // Bytes of state per particle (for memory estimates and benchmarks).
   static constexpr size_t bytes_per_particle() {
-    return sizeof(Vec<Dim>) * 2 + sizeof(Mat<Dim>) * 3 + sizeof(Real) * 3 + sizeof(uint32_t) +
+    return sizeof(Vec<Dim>) * 2 + sizeof(Mat<Dim>) * 3 + sizeof(Real) * 4 + sizeof(uint32_t) +
            sizeof(uint16_t);
   }
 };
