@@ -4,8 +4,6 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 #include <system_error>
 
@@ -15,39 +13,66 @@ namespace tear {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+std::runtime_error os_error(const std::string& path, const char* what, int err) {
+  return std::runtime_error(path + ": " + what + ": " + std::strerror(err));
+}
+
+}  // namespace
+
+// The temporary sits in the target's folder, so rename() stays on one file system and is
+// atomic: a reader sees the old file or the new one, never a mix. No fsync: this guards
+// against readers during the run, not against power loss.
 void write_file_atomic(const std::string& path, const std::string& bytes) {
   const fs::path target(path);
+  if (target.filename().empty())
+    throw std::runtime_error("'" + path + "': cannot write: not a file name");
   const fs::path temp = target.parent_path() / ("." + target.filename().string() + ".tmp." +
                                                 std::to_string(::getpid()));
   std::FILE* f = std::fopen(temp.c_str(), "wb");
-  if (!f) throw std::runtime_error(path + ": cannot write: " + std::strerror(errno));
-  const bool written = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
-  const int saved = errno;
-  const bool closed = std::fclose(f) == 0;
-  if (!written || !closed) {
+  if (!f) throw os_error(path, "cannot write", errno);
+  int err = 0;
+  errno = 0;
+  if (std::fwrite(bytes.data(), 1, bytes.size(), f) != bytes.size() || std::fflush(f) != 0)
+    err = errno ? errno : EIO;
+  if (std::fclose(f) != 0 && err == 0) err = errno ? errno : EIO;
+  if (err != 0) {
     std::remove(temp.c_str());
-    throw std::runtime_error(path + ": cannot write: " + std::strerror(written ? errno : saved));
+    throw os_error(path, "cannot write", err);
   }
   if (std::rename(temp.c_str(), target.c_str()) != 0) {
-    const int err = errno;
+    err = errno;
     std::remove(temp.c_str());
-    throw std::runtime_error(path + ": cannot replace: " + std::strerror(err));
+    throw os_error(path, "cannot replace", err);
   }
 }
 
 void write_lines_atomic(const std::string& path, const std::vector<std::string>& lines) {
+  size_t size = 0;
+  for (const std::string& l : lines) size += l.size() + 1;
   std::string bytes;
+  bytes.reserve(size);
   for (const std::string& l : lines) bytes.append(l).push_back('\n');
   write_file_atomic(path, bytes);
 }
 
 std::string read_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(path + ": cannot open: " + std::strerror(errno));
-  std::ostringstream s;
-  s << in.rdbuf();
-  if (in.bad()) throw std::runtime_error(path + ": cannot read");
-  return s.str();
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) throw os_error(path, "cannot open", errno);
+  std::string bytes;
+  std::error_code ec;
+  const uintmax_t size = fs::file_size(path, ec);
+  if (!ec) bytes.reserve(size_t(size));
+  char buffer[1 << 16];
+  size_t n;
+  errno = 0;
+  while ((n = std::fread(buffer, 1, sizeof(buffer), f)) > 0) bytes.append(buffer, n);
+  // A folder opens but cannot be read (EISDIR).
+  const int err = std::ferror(f) ? (errno ? errno : EIO) : 0;
+  std::fclose(f);
+  if (err != 0) throw os_error(path, "cannot read", err);
+  return bytes;
 }
 
 void make_directories(const std::string& path) {

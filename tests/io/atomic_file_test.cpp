@@ -1,0 +1,143 @@
+#include "tear/io/atomic_file.h"
+
+#include <gtest/gtest.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <set>
+#include <string>
+
+namespace tear {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A fresh folder under the system temp folder, removed with everything in it.
+class ScratchDir {
+ public:
+  ScratchDir() {
+    std::random_device rd;
+    path_ = fs::temp_directory_path() /
+            ("tear_atomic_file_test_" + std::to_string(rd()) + "_" + std::to_string(rd()));
+    fs::create_directories(path_);
+  }
+  ~ScratchDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  std::string file(const std::string& name) const { return (path_ / name).string(); }
+  // Names of the entries directly inside the folder.
+  std::set<std::string> entries() const {
+    std::set<std::string> names;
+    for (const fs::directory_entry& e : fs::directory_iterator(path_))
+      names.insert(e.path().filename().string());
+    return names;
+  }
+
+ private:
+  fs::path path_;
+};
+
+// The message of the runtime_error that `f` throws, or "no error".
+template <class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+TEST(AtomicFile, WritesArbitraryBytesExactly) {
+  ScratchDir dir;
+  std::string bytes(3 << 20, '\0');  // larger than any stdio buffer, with NULs and 0xFF
+  std::mt19937 rng(7);
+  for (char& c : bytes) c = char(rng() & 0xFF);
+  write_file_atomic(dir.file("frame.ply"), bytes);
+  EXPECT_EQ(fs::file_size(dir.file("frame.ply")), bytes.size());
+  EXPECT_TRUE(read_file(dir.file("frame.ply")) == bytes);
+  write_file_atomic(dir.file("empty"), "");
+  EXPECT_EQ(read_file(dir.file("empty")), "");
+  EXPECT_EQ(dir.entries(), (std::set<std::string>{"empty", "frame.ply"}));
+}
+
+TEST(AtomicFile, ReplacesLongerContentAndLeavesOnlyTheTarget) {
+  ScratchDir dir;
+  const std::string path = dir.file("stats.jsonl");
+  std::ofstream(path) << "an older and much longer content than what replaces it\n";
+  write_file_atomic(path, "new\n");
+  EXPECT_EQ(read_file(path), "new\n");
+  EXPECT_EQ(dir.entries(), std::set<std::string>{"stats.jsonl"});
+}
+
+TEST(AtomicFile, MissingFolderFailsNamingPathAndReason) {
+  ScratchDir dir;
+  const std::string path = dir.file("no/such/folder/00001.ply");
+  const std::string message = error_of([&] { write_file_atomic(path, "x"); });
+  EXPECT_TRUE(contains(message, path)) << message;
+  EXPECT_TRUE(contains(message, std::strerror(ENOENT))) << message;
+  EXPECT_TRUE(dir.entries().empty());
+}
+
+TEST(AtomicFile, FailedRenameKeepsTargetAndRemovesTemporary) {
+  ScratchDir dir;
+  const std::string path = dir.file("frames");
+  fs::create_directories(path);  // a folder where the file should go: rename() refuses
+  const std::string message = error_of([&] { write_file_atomic(path, "data"); });
+  EXPECT_TRUE(contains(message, path + ": cannot replace: ")) << message;
+  EXPECT_TRUE(fs::is_directory(path));
+  EXPECT_EQ(dir.entries(), std::set<std::string>{"frames"});  // no .frames.tmp.<pid>
+}
+
+TEST(AtomicFile, PathWithoutFileNameIsRefused) {
+  ScratchDir dir;
+  const std::string path = dir.file("sub") + "/";
+  EXPECT_TRUE(contains(error_of([&] { write_file_atomic(path, "x"); }), "not a file name"));
+  EXPECT_TRUE(dir.entries().empty());
+}
+
+TEST(AtomicFile, WriteLinesEndsEveryLineAndShrinks) {
+  ScratchDir dir;
+  const std::string path = dir.file("stats.jsonl");
+  write_lines_atomic(path, {"{\"frame\":0}", "", "{\"frame\":1}"});
+  EXPECT_EQ(read_file(path), "{\"frame\":0}\n\n{\"frame\":1}\n");
+  write_lines_atomic(path, {"{\"frame\":0}"});
+  EXPECT_EQ(read_file(path), "{\"frame\":0}\n");
+  write_lines_atomic(path, {});
+  EXPECT_TRUE(fs::exists(path));
+  EXPECT_EQ(read_file(path), "");
+  EXPECT_EQ(dir.entries(), std::set<std::string>{"stats.jsonl"});
+}
+
+TEST(AtomicFile, ReadFileErrorsNamePathAndReason) {
+  ScratchDir dir;
+  const std::string missing = dir.file("absent.bin");
+  const std::string message = error_of([&] { read_file(missing); });
+  EXPECT_TRUE(contains(message, missing + ": cannot open: ")) << message;
+  EXPECT_TRUE(contains(message, std::strerror(ENOENT))) << message;
+  fs::create_directories(dir.file("folder"));
+  const std::string folder = error_of([&] { read_file(dir.file("folder")); });
+  EXPECT_TRUE(contains(folder, dir.file("folder") + ": cannot")) << folder;
+}
+
+TEST(AtomicFile, MakeDirectoriesIsMkdirP) {
+  ScratchDir dir;
+  make_directories(dir.file("out/frames"));
+  EXPECT_TRUE(fs::is_directory(dir.file("out/frames")));
+  make_directories(dir.file("out/frames"));  // already there: fine
+  write_file_atomic(dir.file("plain"), "x");
+  const std::string blocked = dir.file("plain/checkpoints");
+  const std::string message = error_of([&] { make_directories(blocked); });
+  EXPECT_TRUE(contains(message, blocked + ": cannot create folder: ")) << message;
+}
+
+}  // namespace
+}  // namespace tear
