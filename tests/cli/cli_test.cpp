@@ -10,6 +10,8 @@
 #include <random>
 #include <sstream>
 
+#include <sys/wait.h>
+
 namespace tear {
 namespace {
 
@@ -55,13 +57,21 @@ class Cli : public ::testing::Test {
     return path(name);
   }
 
-  // Runs `tear ARGS`; returns the exit code, output in out_ (stdout and stderr).
+  // Runs `tear ARGS`; returns the exit code, with stdout in out_ and stderr in err_.
   int tear(const std::string& args) {
-    const std::string log = path("log.txt");
-    const std::string cmd = std::string(TEAR_CLI) + " " + args + " > " + log + " 2>&1";
+    const std::string out = path("stdout.txt"), err = path("stderr.txt");
+    const std::string cmd = std::string(TEAR_CLI) + " " + args + " > " + out + " 2> " + err;
     const int status = std::system(cmd.c_str());
-    out_ = read_file(log);
-    return WEXITSTATUS(status);
+    out_ = read_file(out);
+    err_ = read_file(err);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+
+  int count_frames(const std::string& run) const {
+    int n = 0;
+    for (const auto& e : fs::directory_iterator(run + "/frames"))
+      n += e.path().extension() == ".ply";
+    return n;
   }
 
   std::vector<json> stats(const std::string& run) const {
@@ -73,15 +83,17 @@ class Cli : public ::testing::Test {
   }
 
   fs::path dir_;
-  std::string out_;
+  std::string out_, err_;
 };
 
 TEST_F(Cli, RunWritesTheDocumentedOutputs) {
   const std::string s = write_scene(scene());
-  ASSERT_EQ(tear("run " + s + " -o " + path("run") + " -q"), 0) << out_;
+  ASSERT_EQ(tear("run " + s + " -o " + path("run") + " -q"), 0) << err_;
   EXPECT_NE(out_.find("wrote 4 frames"), std::string::npos) << out_;
-  for (int f = 0; f <= 4; ++f) EXPECT_TRUE(fs::exists(path("run/frames/0000" + std::to_string(f) + ".ply")));
-  EXPECT_FALSE(fs::exists(path("run/frames/00005.ply")));
+  EXPECT_EQ(err_, "");  // --quiet: no progress
+  EXPECT_EQ(count_frames(path("run")), 5);
+  for (int f = 0; f <= 4; ++f)
+    EXPECT_TRUE(fs::exists(path("run/frames/0000" + std::to_string(f) + ".ply"))) << f;
   EXPECT_TRUE(fs::exists(path("run/checkpoints/latest.bin")));
   // scene.json is the resolved scene: defaults filled in.
   const json resolved = json::parse(read_file(path("run/scene.json")));
@@ -89,12 +101,17 @@ TEST_F(Cli, RunWritesTheDocumentedOutputs) {
   EXPECT_EQ(resolved["time"]["cfl"], 0.4);
   // Frames: the documented columns, rows sorted by id.
   const PlyTable t = decode_ply(read_file(path("run/frames/00004.ply")));
-  for (const char* c : {"id", "x", "y", "z", "vx", "vy", "vz", "damage", "material", "fx", "fy", "fz"})
+  for (const char* c :
+       {"id", "x", "y", "z", "vx", "vy", "vz", "damage", "material", "fx", "fy", "fz"})
     EXPECT_TRUE(t.has(c)) << c;
   ASSERT_GT(t.count, 200u);
   for (size_t i = 0; i < t.count; ++i) ASSERT_EQ(t.column("id")[i], double(i));
   EXPECT_EQ(t.column("z"), std::vector<double>(t.count, 0.0));
-  // stats.jsonl: one line per frame with the documented keys; mass is exactly conserved.
+}
+
+TEST_F(Cli, StatsHaveOneLinePerFrameWithTheDocumentedKeys) {
+  const std::string s = write_scene(scene());
+  ASSERT_EQ(tear("run " + s + " -o " + path("run") + " -q"), 0) << err_;
   const std::vector<json> lines = stats(path("run"));
   ASSERT_EQ(lines.size(), 5u);
   for (size_t f = 0; f < lines.size(); ++f) {
@@ -103,68 +120,99 @@ TEST_F(Cli, RunWritesTheDocumentedOutputs) {
                           "max_damage", "mean_damage", "damaged_fraction", "wall_s"})
       EXPECT_TRUE(lines[f].contains(k)) << k;
     EXPECT_EQ(lines[f]["frame"], int(f));
-    EXPECT_EQ(lines[f]["mass"], lines[0]["mass"]);
+    EXPECT_EQ(lines[f]["particles"], lines[0]["particles"]);
+    EXPECT_EQ(lines[f]["mass"], lines[0]["mass"]);  // exactly: particles carry fixed mass
     EXPECT_EQ(lines[f]["momentum"].size(), 3u);
+    EXPECT_EQ(lines[f]["angular_momentum"].size(), 3u);
   }
+  EXPECT_GT(lines[0]["mass"].get<double>(), 0);
   EXPECT_NEAR(lines[4]["time"].get<double>(), 0.08, 1e-15);  // steps land on frame times
   EXPECT_GT(lines[4]["steps"].get<int>(), 0);
-  EXPECT_EQ(tear("check " + s), 0) << out_;
-  EXPECT_NE(out_.find("particles  " + std::to_string(t.count)), std::string::npos) << out_;
+}
+
+TEST_F(Cli, ProgressGoesToStderrAndTheSummaryToStdout) {
+  const std::string s = write_scene(scene());
+  ASSERT_EQ(tear("run " + s + " -o " + path("run")), 0) << err_;
+  // Not a terminal: plain lines, no carriage returns; the last one reports the last frame.
+  EXPECT_NE(err_.find("frame 4/4  t=0.080s  steps/s "), std::string::npos) << err_;
+  EXPECT_NE(err_.find("ETA"), std::string::npos) << err_;
+  EXPECT_EQ(err_.find('\r'), std::string::npos) << err_;
+  EXPECT_EQ(out_.find("frame 4/4"), std::string::npos) << out_;
+  EXPECT_NE(out_.find("wrote 4 frames ("), std::string::npos) << out_;
+  EXPECT_NE(out_.find(" to " + path("run") + " in "), std::string::npos) << out_;
 }
 
 TEST_F(Cli, OutputIsBitIdenticalForOneAndTwoThreads) {
   const std::string s = write_scene(scene());
-  ASSERT_EQ(tear("run " + s + " -o " + path("t1") + " -q --threads 1"), 0) << out_;
-  ASSERT_EQ(tear("run " + s + " -o " + path("t2") + " -q --threads 2"), 0) << out_;
-  ASSERT_EQ(tear("run " + s + " -o " + path("t2b") + " -q --threads 2"), 0) << out_;
+  ASSERT_EQ(tear("run " + s + " -o " + path("t1") + " -q --threads 1"), 0) << err_;
+  ASSERT_EQ(tear("run " + s + " -o " + path("t2") + " -q --threads 2"), 0) << err_;
+  ASSERT_EQ(tear("run " + s + " -o " + path("t2b") + " -q --threads 2"), 0) << err_;
+  ASSERT_EQ(tear("run " + s + " -o " + path("t0") + " -q --threads 0"), 0) << err_;
   for (int f = 0; f <= 4; ++f) {
     const std::string name = "/frames/0000" + std::to_string(f) + ".ply";
     EXPECT_EQ(read_file(path("t1") + name), read_file(path("t2") + name)) << name;
     EXPECT_EQ(read_file(path("t2") + name), read_file(path("t2b") + name)) << name;
+    EXPECT_EQ(read_file(path("t1") + name), read_file(path("t0") + name)) << name;
   }
-  EXPECT_EQ(read_file(path("t1/checkpoints/latest.bin")), read_file(path("t2/checkpoints/latest.bin")));
+  EXPECT_EQ(read_file(path("t1/checkpoints/latest.bin")),
+            read_file(path("t2/checkpoints/latest.bin")));
+  // The comparison means something: the particles moved.
+  EXPECT_NE(read_file(path("t1/frames/00000.ply")), read_file(path("t1/frames/00004.ply")));
 }
 
 TEST_F(Cli, ResumedRunMatchesAnUninterruptedOne) {
   const std::string s = write_scene(scene());
-  ASSERT_EQ(tear("run " + s + " -o " + path("full") + " -q"), 0) << out_;
-  ASSERT_EQ(tear("run " + s + " -o " + path("part") + " -q --frames 2"), 0) << out_;
-  ASSERT_EQ(tear("run " + s + " -o " + path("part") + " --resume --frames 4"), 0) << out_;
-  EXPECT_NE(out_.find("resuming"), std::string::npos) << out_;
+  ASSERT_EQ(tear("run " + s + " -o " + path("full") + " -q"), 0) << err_;
+  ASSERT_EQ(tear("run " + s + " -o " + path("part") + " -q --frames 2"), 0) << err_;
+  EXPECT_EQ(count_frames(path("part")), 3);
+  ASSERT_EQ(tear("run " + s + " -o " + path("part") + " --resume --frames 4"), 0) << err_;
+  EXPECT_NE(err_.find("resuming"), std::string::npos) << err_;
+  EXPECT_EQ(count_frames(path("part")), 5);
   EXPECT_EQ(read_file(path("full/frames/00004.ply")), read_file(path("part/frames/00004.ply")));
+  EXPECT_EQ(read_file(path("full/checkpoints/latest.bin")),
+            read_file(path("part/checkpoints/latest.bin")));
+  EXPECT_EQ(json::parse(read_file(path("part/scene.json")))["time"]["frames"], 4);
   const std::vector<json> a = stats(path("full")), b = stats(path("part"));
   ASSERT_EQ(b.size(), 5u);
   for (size_t f = 0; f < a.size(); ++f) {
+    EXPECT_EQ(a[f]["frame"], b[f]["frame"]) << f;
     EXPECT_EQ(a[f]["momentum"], b[f]["momentum"]) << f;
     EXPECT_EQ(a[f]["steps"], b[f]["steps"]) << f;
   }
-  // Resuming a finished run is not an error; resuming with a changed scene is.
-  EXPECT_EQ(tear("run " + s + " -o " + path("part") + " --resume --frames 4"), 0) << out_;
-  EXPECT_NE(out_.find("already complete"), std::string::npos);
+  // Resuming a finished run is not an error and changes nothing.
+  EXPECT_EQ(tear("run " + s + " -o " + path("part") + " --resume --frames 3"), 0) << err_;
+  EXPECT_NE(out_.find("already complete"), std::string::npos) << out_;
+  EXPECT_EQ(json::parse(read_file(path("part/scene.json")))["time"]["frames"], 4);
+  // Resuming with a changed scene, or where nothing ran, is.
   EXPECT_EQ(tear("run " + s + " -o " + path("part") + " --resume --set materials.jelly.E=600"), 1);
-  EXPECT_NE(out_.find("scene differs"), std::string::npos) << out_;
+  EXPECT_NE(err_.find(path("part") + "/scene.json: scene differs from " + s),
+            std::string::npos)
+      << err_;
   EXPECT_EQ(tear("run " + s + " -o " + path("nothing_here") + " --resume"), 1);
-  EXPECT_NE(out_.find("no earlier run"), std::string::npos) << out_;
+  EXPECT_NE(err_.find("no earlier run"), std::string::npos) << err_;
+  EXPECT_FALSE(fs::exists(path("nothing_here")));
 }
 
 TEST_F(Cli, SetAndFramesOverrideTheScene) {
   const std::string s = write_scene(scene());
   ASSERT_EQ(tear("run " + s + " -o " + path("o") + " -q --frames 2 --set materials.jelly.E=750"
-                 " --set 'gravity=[0,-1]'"),
+                 " --set 'gravity=[0,-1]' --set transfer=pic"),
             0)
-      << out_;
+      << err_;
   const json resolved = json::parse(read_file(path("o/scene.json")));
   EXPECT_EQ(resolved["materials"]["jelly"]["E"], 750);
   EXPECT_EQ(resolved["gravity"], json::parse("[0,-1]"));
+  EXPECT_EQ(resolved["transfer"], "pic");  // not JSON: taken as a string
   EXPECT_EQ(resolved["time"]["frames"], 2);
+  EXPECT_EQ(count_frames(path("o")), 3);
   EXPECT_TRUE(fs::exists(path("o/frames/00002.ply")));
-  EXPECT_FALSE(fs::exists(path("o/frames/00003.ply")));
+  EXPECT_EQ(stats(path("o")).size(), 3u);
+  // check applies --set too.
+  ASSERT_EQ(tear("check " + s + " --set materials.jelly.E=750"), 0) << err_;
+  EXPECT_NE(out_.find("E 750"), std::string::npos) << out_;
 }
 
 TEST_F(Cli, BadInputFailsWithAReasonAndWritesNothing) {
-  struct Case {
-    std::string name, edit, expected;
-  };
   json typo = scene();
   typo["materials"]["jelly"]["nuu"] = 0.3;
   json bad_nu = scene();
@@ -176,36 +224,62 @@ TEST_F(Cli, BadInputFailsWithAReasonAndWritesNothing) {
   for (const auto& [doc, expected] : cases) {
     const std::string s = write_scene(doc, "bad.json");
     EXPECT_EQ(tear("run " + s + " -o " + path("never")), 1) << expected;
-    EXPECT_NE(out_.find("bad.json"), std::string::npos) << out_;
-    EXPECT_NE(out_.find(expected), std::string::npos) << out_;
-    EXPECT_EQ(out_.find('\n'), out_.size() - 1) << "one line: " << out_;
+    EXPECT_EQ(err_.rfind("tear: ", 0), 0u) << err_;
+    EXPECT_NE(err_.find("bad.json"), std::string::npos) << err_;
+    EXPECT_NE(err_.find(expected), std::string::npos) << err_;
+    EXPECT_EQ(err_.find('\n'), err_.size() - 1) << "one line: " << err_;
     EXPECT_FALSE(fs::exists(path("never"))) << expected;
     EXPECT_EQ(tear("check " + s), 1);
+    EXPECT_NE(err_.find(expected), std::string::npos) << err_;
   }
   EXPECT_EQ(tear("run " + path("missing.json") + " -o " + path("never")), 1);
-  EXPECT_NE(out_.find("missing.json"), std::string::npos) << out_;
+  EXPECT_NE(err_.find("missing.json"), std::string::npos) << err_;
   EXPECT_FALSE(fs::exists(path("never")));
+  // The same through --set: an unknown key and a bad value.
   const std::string s = write_scene(scene());
-  EXPECT_EQ(tear("run " + s + " -o " + path("never") + " --set nosuch.key=1"), 1);
+  EXPECT_EQ(tear("run " + s + " -o " + path("never") + " --set materials.jelly.nuu=1"), 1);
+  EXPECT_NE(err_.find("materials.jelly.nuu"), std::string::npos) << err_;
+  EXPECT_EQ(tear("run " + s + " -o " + path("never") + " --set materials.jelly.E=-5"), 1);
+  EXPECT_NE(err_.find("materials.jelly.E"), std::string::npos) << err_;
+  EXPECT_NE(err_.find("scene.json"), std::string::npos) << err_;
   EXPECT_FALSE(fs::exists(path("never")));
 }
 
-TEST_F(Cli, UsageInfoAndBench) {
+TEST_F(Cli, UsageErrorsExitTwo) {
   EXPECT_EQ(tear(""), 2);
   EXPECT_EQ(tear("run"), 2);
+  EXPECT_EQ(tear("run x.json"), 2);  // no -o
   EXPECT_EQ(tear("run --threads -3 x.json -o y"), 2);
+  EXPECT_EQ(tear("frobnicate"), 2);
   EXPECT_EQ(tear("--help"), 0);
-  EXPECT_NE(out_.find("run"), std::string::npos);
+  for (const char* sub : {"run", "check", "info", "bench"})
+    EXPECT_NE(out_.find(sub), std::string::npos) << sub;
   EXPECT_EQ(tear("run --help"), 0);
-  EXPECT_NE(out_.find("--resume"), std::string::npos);
-  EXPECT_EQ(tear("info"), 0);
-  EXPECT_NE(out_.find("precision"), std::string::npos);
-  EXPECT_EQ(tear("bench --stress-evals 20000 --particles 2000 --steps 2 --threads-list 1"), 0) << out_;
-  const json b = json::parse(out_.substr(out_.find("{\n")));  // after the stderr notes
-  EXPECT_GT(b["stress"]["speedup_qr_over_fixed_corotated"].get<double>(), 1.0);
-  ASSERT_EQ(b["step"].size(), 1u);
-  EXPECT_GT(b["step"][0]["particle_steps_per_s"].get<double>(), 0);
-  EXPECT_GT(b["step"][0]["particles"].get<long>(), 1000);
+  for (const char* opt : {"--out", "--threads", "--frames", "--set", "--quiet", "--resume"})
+    EXPECT_NE(out_.find(opt), std::string::npos) << opt;
+  EXPECT_EQ(tear("--version"), 0);
+  EXPECT_EQ(out_.rfind("tear ", 0), 0u) << out_;
+}
+
+TEST_F(Cli, InfoAndQuickBench) {
+  EXPECT_EQ(tear("info"), 0) << err_;
+  for (const char* k : {"precision", "asserts", "compiler", "eigen", "onetbb", "threads"})
+    EXPECT_NE(out_.find(k), std::string::npos) << k;
+  // stdout is exactly one JSON object; notes go to stderr.
+  ASSERT_EQ(tear("bench --quick --threads-list 1,2"), 0) << err_;
+  const json b = json::parse(out_);
+  for (const char* k : {"evaluations", "qr_aniso", "fixed_corotated"})
+    EXPECT_TRUE(b["stress"].contains(k)) << k;
+  EXPECT_EQ(b["stress"]["evaluations"], 100000);
+  EXPECT_GT(b["stress"]["speedup_qr_over_fixed_corotated"].get<double>(), 0.0);
+  ASSERT_EQ(b["step"].size(), 2u);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_EQ(b["step"][i]["threads"], i + 1);
+    EXPECT_EQ(b["step"][i]["steps"], 5);
+    EXPECT_GT(b["step"][i]["particle_steps_per_s"].get<double>(), 0);
+    EXPECT_GT(b["step"][i]["particles"].get<long>(), 10000);
+    EXPECT_TRUE(b["step"][i].contains("phase_s"));
+  }
 }
 
 }  // namespace

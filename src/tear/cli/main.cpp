@@ -10,6 +10,8 @@ int main(int argc, char** argv) {
   CLI::App app{"tear: anisotropic tearing and fracture with the Material Point Method"};
   app.set_version_flag("--version", std::string("tear ") + TEAR_VERSION);
   app.require_subcommand(1);
+  app.footer("Exit codes: 0 success, 1 bad input or a failed run (one line on stderr),\n"
+             "2 command-line usage error. Documentation: docs/cli.md");
 
   tear::RunOptions run;
   CLI::App* run_cmd = app.add_subcommand("run", "Simulate a scene; write frames and statistics");
@@ -42,14 +44,20 @@ int main(int argc, char** argv) {
   bool quick = false;
   CLI::App* bench_cmd = app.add_subcommand("bench", "Benchmark suite; JSON figures on stdout");
   bench_cmd->add_option("--stress-evals", stress_evals, "Stress evaluations per model")
+      ->capture_default_str()
       ->check(CLI::PositiveNumber);
   bench_cmd->add_option("--particles", particles, "Particles in the step benchmark block")
+      ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  bench_cmd->add_option("--steps", steps, "Timed steps")->check(CLI::PositiveNumber);
+  bench_cmd->add_option("--steps", steps, "Timed steps")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   bench_cmd->add_option("--threads-list", thread_counts, "Thread counts for the step benchmark")
+      ->capture_default_str()
       ->delimiter(',')
       ->check(CLI::PositiveNumber);
-  bench_cmd->add_flag("--quick", quick, "Small sizes (seconds): 1e5 evaluations, 20000 particles");
+  bench_cmd->add_flag("--quick", quick,
+                      "Small sizes, seconds in all: 1e5 evaluations, 20000 particles, 5 steps");
 
   try {
     app.parse(argc, argv);
@@ -66,17 +74,22 @@ int main(int argc, char** argv) {
   }
   if (*bench_cmd) {
     if (quick) stress_evals = 100000, particles = 20000, steps = 5;
-    nlohmann::json out;
-    std::cerr << "stress evaluation: " << stress_evals << " x 2 models...\n";
-    out["stress"] = tear::bench_stress(stress_evals);
-    out["step"] = nlohmann::json::array();
-    for (int t : thread_counts) {
-      std::cerr << "explicit step: " << particles << " particles, " << steps << " steps, " << t
-                << " thread(s)...\n";
-      out["step"].push_back(tear::bench_step(particles, steps, t));
+    try {
+      nlohmann::json out;
+      std::cerr << "stress evaluation: " << stress_evals << " x 2 models...\n";
+      out["stress"] = tear::bench_stress(stress_evals);
+      out["step"] = nlohmann::json::array();
+      for (int t : thread_counts) {
+        std::cerr << "explicit step: " << particles << " particles, " << steps << " steps, " << t
+                  << " thread(s)...\n";
+        out["step"].push_back(tear::bench_step(particles, steps, t));
+      }
+      std::cout << out.dump(2) << std::endl;
+      return 0;
+    } catch (const std::exception& e) {
+      std::cerr << "tear: bench: " << e.what() << "\n";
+      return 1;
     }
-    std::cout << out.dump(2) << std::endl;
-    return 0;
   }
   return 2;
 }

@@ -10,6 +10,7 @@
 #include <tbb/info.h>
 #include <tbb/version.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -44,7 +45,19 @@ std::string clock_text(double seconds) {
   return buf;
 }
 
-// One status line on stderr: rewritten in place on a terminal, printed every ~5% otherwise.
+// Simulated time with three decimals, or three significant digits for tiny frame times.
+std::string time_text(double t) {
+  char buf[32];
+  if (t == 0 || std::abs(t) >= 1e-2)
+    std::snprintf(buf, sizeof(buf), "%.3fs", t);
+  else
+    std::snprintf(buf, sizeof(buf), "%.3gs", t);
+  return buf;
+}
+
+// One status line on stderr, "frame 12/48  t=0.500s  steps/s 1234  ETA 0:35": rewritten in
+// place behind a bar on a terminal, printed as a plain line every ~5% of the frames otherwise
+// (log files and pipes get no carriage returns).
 class Progress {
  public:
   Progress(bool enabled, int total_frames, int first_frame)
@@ -60,18 +73,18 @@ class Progress {
     const int done = frame - first_;
     const double eta = done > 0 ? wall / done * (total_ - frame) : NAN;
     const double rate = wall > 0 ? double(steps_done) / wall : 0;
-    const int width = 24, filled = total_ > 0 ? width * frame / total_ : width;
     char line[256];
-    std::snprintf(line, sizeof(line), "[%.*s%.*s] frame %d/%d  t=%.4gs  %.0f steps/s  ETA %s",
-                  filled, "########################", width - filled,
-                  "                        ", frame, total_, sim_time, rate,
-                  clock_text(eta).c_str());
+    std::snprintf(line, sizeof(line), "frame %d/%d  t=%s  steps/s %.0f  ETA %s", frame, total_,
+                  time_text(sim_time).c_str(), rate, clock_text(eta).c_str());
     if (tty_) {
-      std::fprintf(stderr, "\r%s\033[K", line);
+      constexpr int kWidth = 24;
+      const int filled = total_ > 0 ? std::clamp(kWidth * frame / total_, 0, kWidth) : kWidth;
+      std::fprintf(stderr, "\r[%s%s] %s\033[K", std::string(size_t(filled), '#').c_str(),
+                   std::string(size_t(kWidth - filled), ' ').c_str(), line);
       if (frame == total_) std::fputc('\n', stderr);
     } else {
-      const int step = std::max(1, total_ / 20);
-      if (frame == total_ || frame % step == 0) std::fprintf(stderr, "%s\n", line);
+      const int every = std::max(1, total_ / 20);
+      if (frame == total_ || (frame - first_) % every == 0) std::fprintf(stderr, "%s\n", line);
     }
     std::fflush(stderr);
   }
@@ -104,9 +117,22 @@ std::vector<std::string> stats_up_to(const std::string& path, int frame) {
   return kept;
 }
 
-int fail(const std::string& why) {
+// The reason as one line on stderr ("tear: reason"); exit code 1.
+int fail(std::string why) {
+  for (char& c : why)
+    if (c == '\n' || c == '\r') c = ' ';
   std::fprintf(stderr, "tear: %s\n", why.c_str());
   return 1;
+}
+
+// "812 KiB", "3.4 MiB": sizes for people.
+std::string size_text(double bytes) {
+  const char* units[] = {"B", "KiB", "MiB", "GiB", "TiB"};
+  int u = 0;
+  while (bytes >= 1024 && u < 4) bytes /= 1024, ++u;
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), u == 0 || bytes >= 100 ? "%.0f %s" : "%.1f %s", bytes, units[u]);
+  return buf;
 }
 
 }  // namespace
@@ -138,12 +164,14 @@ int run_scene(const RunOptions& o) {
       } catch (const std::exception& e) {
         return fail(checkpoint_path + ": " + e.what());
       }
-      stats = stats_up_to(stats_path, sim->frame());
-      write_file_atomic(old_scene, scene.resolved.dump(2) + "\n");
       if (sim->frame() >= scene.frames) {
         std::printf("%s: already complete (%d frames)\n", o.out_dir.c_str(), sim->frame());
         return 0;
       }
+      if (!fs::exists(stats_path)) return fail(stats_path + ": missing; cannot resume");
+      stats = stats_up_to(stats_path, sim->frame());
+      // Record the new frame count; everything else was checked to be equal.
+      write_file_atomic(old_scene, scene.resolved.dump(2) + "\n");
       if (!o.quiet)
         std::fprintf(stderr, "resuming %s at frame %d (t = %g s)\n", o.out_dir.c_str(),
                      sim->frame(), sim->time());
@@ -185,6 +213,8 @@ int run_scene(const RunOptions& o) {
     return 0;
   } catch (const std::exception& e) {
     return fail(e.what());
+  } catch (...) {
+    return fail("unknown error");
   }
 }
 
@@ -203,30 +233,44 @@ int check_scene(const std::string& scene_path, const std::vector<std::string>& o
       const MaterialParams& p = m.params;
       out << "material   " << m.name << ": " << model_name(p.model) << ", E " << p.E << ", nu "
           << p.nu << ", rho " << p.rho << " -> mu " << p.mu << ", lambda " << p.lambda;
-      if (p.kx != 0 || p.ky != 0) out << ", kx " << p.kx << ", ky " << p.ky;
-      out << ", wave speed " << wave_speed(p) << "\n";
+      if (p.kx != 0 || p.ky != 0) {
+        out << ", kx " << p.kx;
+        if (s.dim == 3) out << ", ky " << p.ky;
+      }
+      out << ", wave speed " << wave_speed(p) << (m.damage.enabled ? ", damage" : "") << "\n";
     }
-    for (const ObjectSpec& ob : s.objects) {
-      out << "object     " << s.resolved["objects"][&ob - s.objects.data()]["shape"]["type"]
-                                .get<std::string>()
+    const nlohmann::json& objects = s.resolved.at("objects");
+    for (size_t i = 0; i < s.objects.size(); ++i) {
+      const ObjectSpec& ob = s.objects[i];
+      out << "object     " << i << ": " << objects.at(i).at("shape").at("type").get<std::string>()
           << ", material " << s.materials[size_t(ob.material)].name << ", " << ob.ppc
           << " particles per cell" << (ob.grid_sampling ? " (lattice)" : "") << "\n";
     }
-    out << "boundaries " << s.boundaries.size() << " collider(s), walls "
-        << s.resolved["grid"]["walls"].get<std::string>() << "\n";
+    out << "boundaries walls " << s.resolved.at("grid").at("walls").get<std::string>() << ", "
+        << s.boundaries.size() << " collider(s)";
+    const nlohmann::json& colliders = s.resolved.at("boundaries");
+    for (size_t i = 0; i < colliders.size(); ++i)
+      out << (i ? ", " : ": ") << colliders[i].at("type").get<std::string>() << " "
+          << colliders[i].at("shape").at("type").get<std::string>();
+    out << "\n";
     const double dt = sim->estimate_dt();
     const std::string ply = sim->encode_ply();
-    const int written = s.frames / s.output_every + 1;
+    const size_t checkpoint = sim->encode_checkpoint().size();
+    // Frame 0, every output_every-th frame, and the last frame.
+    const int written = 1 + s.frames / s.output_every + (s.frames % s.output_every != 0 ? 1 : 0);
     out << "particles  " << sim->num_particles() << "\n";
     out << "time       " << s.frames << " frames of " << s.frame_dt << " s; dt " << dt
         << " s at rest (about " << std::lround(std::ceil(s.frame_dt / dt))
         << " steps per frame)\n";
-    out << "memory     about " << (sim->memory_bytes() >> 20) << " MiB\n";
-    out << "output     " << written << " frames of " << (ply.size() >> 10) << " KiB ("
-        << ((double(ply.size()) * written) / (1 << 20)) << " MiB)\n";
+    out << "memory     about " << size_text(double(sim->memory_bytes())) << "\n";
+    out << "output     " << written << " frames of " << size_text(double(ply.size())) << " ("
+        << size_text(double(ply.size()) * written) << "), checkpoint "
+        << size_text(double(checkpoint)) << "\n";
     return 0;
   } catch (const std::exception& e) {
     return fail(e.what());
+  } catch (...) {
+    return fail("unknown error");
   }
 }
 
