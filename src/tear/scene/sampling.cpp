@@ -150,8 +150,9 @@ Particles<Dim> sample_scene(const Scene& scene) {
     for (int d = 0; d < Dim; ++d) {
       double a = std::floor((lo[d] - scene.domain_min[d]) / dx);
       double b = std::ceil((hi[d] - scene.domain_min[d]) / dx) - 1;
-      c0[d] = int(std::max(0.0, a));
-      c1[d] = int(std::min(double(ncell[d] - 1), b));
+      // Clamped in double first: a shape far outside the domain must not overflow the int.
+      c0[d] = int(std::clamp(a, 0.0, double(ncell[d])));
+      c1[d] = int(std::clamp(b, -1.0, double(ncell[d] - 1)));
       empty = empty || c0[d] > c1[d];
     }
     if (empty) continue;

@@ -5,7 +5,9 @@
 
 #include "tear/scene/scene_parts.h"
 
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -23,6 +25,8 @@ SceneError::SceneError(const std::string& file, const std::string& path,
 
 namespace {
 
+constexpr double kMaxCellsPerAxis = 1 << 24;
+
 json parse_grid(const Reader& r, const json& doc, Scene* s) {
   const json* g = r.find(doc, "grid");
   if (!g) r.fail("grid", "required");
@@ -35,6 +39,13 @@ json parse_grid(const Reader& r, const json& doc, Scene* s) {
     r.check(s->domain_min[i] < s->domain_max[i], "grid.domain_max",
             "must be > domain_min in every entry (entry " + std::to_string(i) + ": " +
                 num_str(s->domain_max[i]) + " <= " + num_str(s->domain_min[i]) + ")");
+  // Cell indices are ints (sampling, grid); a domain this many cells wide is a typo anyway.
+  for (int i = 0; i < r.dim; ++i) {
+    double cells = (s->domain_max[i] - s->domain_min[i]) / s->dx;
+    r.check(cells <= kMaxCellsPerAxis, "grid.dx",
+            "too small for the domain: " + num_str(std::ceil(cells)) + " cells along axis " +
+                std::to_string(i) + " (at most " + num_str(kMaxCellsPerAxis) + ")");
+  }
   s->walls = WallType(r.choice(*g, "grid", "walls", {"sticky", "slip", "separate", "none"}, 2));
   const char* walls[] = {"sticky", "slip", "separate", "none"};
   return {{"dx", s->dx},
@@ -50,8 +61,8 @@ json parse_time(const Reader& r, const json& doc, Scene* s) {
   s->frame_dt = r.number(*t, "time", "frame_dt");
   r.positive(s->frame_dt, "time.frame_dt");
   long long frames = r.integer(*t, "time", "frames");
-  r.check(frames >= 0 && frames <= 100000000, "time.frames",
-          "must be in [0, 1e8], got " + std::to_string(frames));
+  r.check(frames >= 1 && frames <= 100000000, "time.frames",
+          "must be in [1, 1e8], got " + std::to_string(frames));
   s->frames = int(frames);
   s->cfl = r.number(*t, "time", "cfl", 0.4);
   r.check(s->cfl > 0 && s->cfl <= 1, "time.cfl", "must be in (0, 1], got " + num_str(s->cfl));
@@ -69,7 +80,8 @@ json parse_damage(const Reader& r, const json& doc, Scene* s) {
   DamageSolverSpec& ds = s->damage;
   ds.solver = DamageSolver(r.choice(*d, "damage", "solver", {"none", "explicit", "implicit"}, 0));
   // Accepted by the format, not yet by the solver: refuse rather than silently ignore.
-  r.check(ds.solver != DamageSolver::Implicit, "damage.solver", "\"implicit\": not implemented yet");
+  r.check(ds.solver != DamageSolver::Implicit, "damage.solver",
+          "\"implicit\": not implemented yet");
   ds.l0 = r.number(*d, "damage", "l0", 0.5 * s->dx);
   r.positive(ds.l0, "damage.l0");
   ds.zeta = r.number(*d, "damage", "zeta", 1.0);
@@ -98,15 +110,20 @@ json parse_output(const Reader& r, const json& doc, Scene* s) {
   s->checkpoint_every = int(ck);
   s->formats = {"ply"};
   if (const json* f = r.find(*o, "formats")) {
-    if (!f->is_array()) r.fail("output.formats", "must be an array of strings, got " + type_desc(*f));
+    if (!f->is_array())
+      r.fail("output.formats", "must be an array of strings, got " + type_desc(*f));
+    // Frames are always written; an empty list would be silently ignored.
+    r.check(!f->empty(), "output.formats", "must name at least one format (ply)");
     s->formats.clear();
     for (size_t i = 0; i < f->size(); ++i) {
       std::string p = index_path("output.formats", i);
       const json& v = (*f)[i];
       if (!v.is_string()) r.fail(p, "must be a string, got " + type_desc(v));
       std::string name = v.get<std::string>();
-      if (name == "bgeo" || name == "vtu") r.fail(p, "format \"" + name + "\": not implemented yet");
-      if (name != "ply") r.fail(p, "unknown format \"" + name + "\" (expected one of: ply, bgeo, vtu)");
+      if (name == "bgeo" || name == "vtu")
+        r.fail(p, "format \"" + name + "\": not implemented yet");
+      if (name != "ply")
+        r.fail(p, "unknown format \"" + name + "\" (expected one of: ply, bgeo, vtu)");
       for (const std::string& seen : s->formats)
         r.check(seen != name, p, "duplicate format \"" + name + "\"");
       s->formats.push_back(name);
@@ -138,14 +155,17 @@ void apply_override(const std::string& file, json* doc, const std::string& ov) {
     if (part.empty()) bad("empty path component");
     bool last = i + 1 == parts.size();
     if (node->is_object()) {
-      if (!last && !node->contains(part))
-        bad("\"" + key_path(walked, part) + "\" does not exist");
+      if (!last && !node->contains(part)) {
+        std::vector<std::string> keys;
+        for (auto it = node->begin(); it != node->end(); ++it) keys.push_back(it.key());
+        bad("\"" + key_path(walked, part) + "\" does not exist" + did_you_mean(part, keys));
+      }
       node = &(*node)[part];
     } else if (node->is_array()) {
       bool digits = part.find_first_not_of("0123456789") == std::string::npos;
       if (!digits || part.size() > 9 || std::stoul(part) >= node->size())
         bad("\"" + key_path(walked, part) + "\" does not exist (array of " +
-            std::to_string(node->size()) + " entries)");
+            entries(node->size()) + ")");
       node = &(*node)[std::stoul(part)];
     } else {
       bad("\"" + walked + "\" is " + type_desc(*node) + ", not an object or array");
@@ -158,8 +178,15 @@ void apply_override(const std::string& file, json* doc, const std::string& ov) {
 }  // namespace
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw SceneError(path, "(file)", "is a directory, not a scene file");
+  errno = 0;
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw SceneError(path, "(file)", "cannot open file");
+  if (!in) {
+    std::string why = errno ? ": " + std::string(std::strerror(errno)) : "";
+    throw SceneError(path, "(file)", "cannot open file" + why);
+  }
   std::stringstream text;
   text << in.rdbuf();
   json doc;

@@ -1,8 +1,27 @@
 #include "tear/scene/scene_json.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <vector>
 
 namespace tear::scene_detail {
+
+// Optimal string alignment distance.
+size_t edit_distance(const std::string& a, const std::string& b) {
+  const size_t n = a.size(), m = b.size();
+  std::vector<std::vector<size_t>> d(n + 1, std::vector<size_t>(m + 1));
+  for (size_t i = 0; i <= n; ++i) d[i][0] = i;
+  for (size_t j = 0; j <= m; ++j) d[0][j] = j;
+  for (size_t i = 1; i <= n; ++i)
+    for (size_t j = 1; j <= m; ++j) {
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1,
+                          d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  return d[n][m];
+}
 
 std::string key_path(const std::string& parent, const std::string& key) {
   return parent.empty() ? key : parent + "." + key;
@@ -16,6 +35,8 @@ std::string num_str(double v) {
   if (v == std::floor(v) && std::abs(v) < 1e15) return std::to_string((long long)v);
   return json(v).dump();
 }
+
+std::string entries(size_t n) { return std::to_string(n) + (n == 1 ? " entry" : " entries"); }
 
 std::string type_desc(const json& j) {
   switch (j.type()) {
@@ -50,7 +71,8 @@ void Reader::object(const json& j, const std::string& path,
     if (!known) {
       std::string list;
       for (const char* a : allowed) list += std::string(list.empty() ? "" : ", ") + a;
-      fail(key_path(path, it.key()), "unknown key (expected one of: " + list + ")");
+      std::string hint = did_you_mean(it.key(), allowed);
+      fail(key_path(path, it.key()), "unknown key" + hint + " (expected one of: " + list + ")");
     }
   }
 }
@@ -71,7 +93,7 @@ double Reader::as_number(const json& v, const std::string& path) const {
 Vec3d Reader::as_vec(const json& v, const std::string& path, int n) const {
   if (!v.is_array() || int(v.size()) != n)
     fail(path, "must be an array of " + std::to_string(n) + " numbers, got " +
-                   (v.is_array() ? std::to_string(v.size()) + " entries" : type_desc(v)));
+                   (v.is_array() ? entries(v.size()) : type_desc(v)));
   Vec3d out = Vec3d::Zero();
   for (int i = 0; i < n; ++i) out[i] = as_number(v[i], index_path(path, i));
   return out;
@@ -95,6 +117,9 @@ long long Reader::integer(const json& obj, const std::string& path, const char* 
     if (!def) fail(p, "required");
     return *def;
   }
+  if (v->is_number_unsigned() &&
+      v->get<unsigned long long>() > (unsigned long long)std::numeric_limits<long long>::max())
+    fail(p, "too large, got " + v->dump());
   if (v->is_number_integer()) return v->get<long long>();
   // 4.0 is accepted as 4; 4.5 is not.
   if (v->is_number_float()) {

@@ -16,6 +16,23 @@ std::string key_path(const std::string& parent, const std::string& key);
 std::string index_path(const std::string& parent, size_t index);
 // Shortest round-trip text of a number, as JSON writes it (0.7, 1e+30, 3).
 std::string num_str(double v);
+// Edit distance counting an adjacent transposition as one edit ("materails" -> "materials").
+size_t edit_distance(const std::string& a, const std::string& b);
+// ", did you mean \"KEY\"?" for the candidate closest to `key` when it is a likely typo, else "".
+template <class Range>
+std::string did_you_mean(const std::string& key, const Range& candidates) {
+  std::string best;
+  size_t best_d = size_t(-1);
+  for (const auto& c : candidates) {
+    size_t d = edit_distance(key, c);
+    if (d < best_d) best_d = d, best = c;
+  }
+  // At most 2 edits, and fewer than half the key's length ("E" is no typo of "x").
+  if (best_d <= 2 && 2 * best_d < key.size()) return ", did you mean \"" + best + "\"?";
+  return "";
+}
+// "1 entry", "3 entries": the size of an array, for error messages.
+std::string entries(size_t n);
 // "a number", "a string", "an object", ... for error messages.
 std::string type_desc(const json& j);
 
@@ -45,7 +62,8 @@ class Reader {
                      std::optional<std::string> def = std::nullopt) const;
   // A string that must be one of `options`; returns its index.
   int choice(const json& obj, const std::string& path, const char* key,
-             std::initializer_list<const char*> options, std::optional<int> def = std::nullopt) const;
+             std::initializer_list<const char*> options,
+             std::optional<int> def = std::nullopt) const;
   // A vector of exactly `dim` numbers (z = 0 in 2D).
   Vec3d vec(const json& obj, const std::string& path, const char* key,
             std::optional<Vec3d> def = std::nullopt) const;

@@ -16,7 +16,7 @@ void scalar_or_array(const Reader& r, const json& v, const std::string& path, in
   } else {
     r.fail(path, "must be a number or an array of " +
                      (n == 1 ? std::string("1 number") : "1 to " + std::to_string(n) + " numbers") +
-                     ", got " + (v.is_array() ? std::to_string(v.size()) + " entries" : type_desc(v)));
+                     ", got " + (v.is_array() ? entries(v.size()) : type_desc(v)));
   }
 }
 
@@ -34,9 +34,11 @@ json parse_damage_spec(const Reader& r, const json& m, const std::string& path, 
   r.check(d->residual >= 0 && d->residual < 1, key_path(p, "residual"),
           "must be in [0, 1), got " + num_str(d->residual));
   d->alpha[0] = d->alpha[1] = 0;
-  if (const json* a = r.find(*j, "alpha")) scalar_or_array(r, *a, key_path(p, "alpha"), 2, d->alpha);
+  const json* a = r.find(*j, "alpha");
+  if (a) scalar_or_array(r, *a, key_path(p, "alpha"), 2, d->alpha);
   for (int i = 0; i < 2; ++i)
-    r.check(d->alpha[i] >= -1 && d->alpha[i] <= 0, key_path(p, "alpha"),
+    r.check(d->alpha[i] >= -1 && d->alpha[i] <= 0,
+            a && a->is_array() ? index_path(key_path(p, "alpha"), i) : key_path(p, "alpha"),
             "must be in [-1, 0], got " + num_str(d->alpha[i]));
   return {{"sigma_c", d->sigma_c},
           {"eta", d->eta},
@@ -48,7 +50,8 @@ MaterialSpec parse_material(const Reader& r, const std::string& name, const json
                             json* out) {
   std::string path = key_path("materials", name);
   r.object(m, path,
-           {"model", "E", "nu", "rho", "fiber_scale", "damage", "plasticity", "inextensible"});
+           {"model", "E", "nu", "rho", "fiber_scale", "damage", "plasticity", "inextensible",
+            "inextensibility_relaxation"});
   MaterialSpec spec;
   spec.name = name;
   std::string model_str = r.string(m, path, "model");
@@ -73,13 +76,21 @@ MaterialSpec parse_material(const Reader& r, const std::string& name, const json
     bool zero_pad = r.dim == 2 && f->is_array() && f->size() == 2;
     if (f->is_array() && int(f->size()) != nfs && !zero_pad)
       r.fail(fp, "must be an array of " + std::to_string(nfs) + " number" + (nfs > 1 ? "s" : "") +
-                     " in " + std::to_string(r.dim) + "D, got " + std::to_string(f->size()) +
-                     " entries");
+                     " in " + std::to_string(r.dim) + "D, got " + entries(f->size()));
     scalar_or_array(r, *f, fp, 2, fs);
     for (int i = 0; i < 2; ++i) r.non_negative(fs[i], f->is_array() ? index_path(fp, i) : fp);
     if (zero_pad)
       r.check(fs[1] == 0, index_path(fp, 1),
               "must be 0 in 2D (only a1 has a fiber stiffness), got " + num_str(fs[1]));
+  }
+  // Only qr_aniso has fiber terms and a degradable energy; refuse rather than ignore.
+  if (model != Model::QrAniso) {
+    r.check(fs[0] == 0 && fs[1] == 0, key_path(path, "fiber_scale"),
+            "must be 0 for the isotropic model \"" + model_str +
+                "\" (only qr_aniso has fiber stiffness)");
+    r.check(!r.find(m, "damage"), key_path(path, "damage"),
+            "not implemented yet for model \"" + model_str +
+                "\" (only qr_aniso is degraded by damage)");
   }
   spec.fiber_scale[0] = Real(fs[0]);
   spec.fiber_scale[1] = Real(fs[1]);
@@ -96,6 +107,9 @@ MaterialSpec parse_material(const Reader& r, const std::string& name, const json
   }
   spec.inextensible = r.boolean(m, path, "inextensible", false);
   r.check(!spec.inextensible, key_path(path, "inextensible"), "true: not implemented yet");
+  if (r.find(m, "inextensibility_relaxation"))
+    r.fail(key_path(path, "inextensibility_relaxation"),
+           "not implemented yet (inextensibility is not supported)");
 
   json fsj = json::array();
   for (int i = 0; i < nfs; ++i) fsj.push_back(fs[i]);

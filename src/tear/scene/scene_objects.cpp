@@ -28,9 +28,18 @@ json parse_fibers(const Reader& r, const json& obj, const std::string& opath, co
   const json* j = r.find(obj, "fibers");
   if (!j) j = &kEmpty;
   std::string path = key_path(opath, "fibers");
+  if (!j->is_object()) r.fail(path, "must be an object, got " + type_desc(*j));
+  // The type first, so that a recognised but unimplemented field is named as such rather
+  // than through its keys ("sources", "file").
+  int type = r.choice(*j, path, "type",
+                      {"constant", "radial", "circumferential", "longitudinal", "random", "flow",
+                       "from_file"},
+                      0);
+  if (type >= 5)
+    r.fail(key_path(path, "type"),
+           "\"" + (*j)["type"].get<std::string>() + "\": not implemented yet");
   r.object(*j, path, {"type", "a1", "a2", "center", "axis"});
-  f->type = FiberField(r.choice(
-      *j, path, "type", {"constant", "radial", "circumferential", "longitudinal", "random"}, 0));
+  f->type = FiberField(type);
   const char* names[] = {"constant", "radial", "circumferential", "longitudinal", "random"};
   json out = {{"type", names[int(f->type)]}};
 
@@ -71,6 +80,14 @@ json parse_object(const Reader& r, const json& o, const std::string& path, const
   const json* sj = r.find(o, "shape");
   if (!sj) r.fail(key_path(path, "shape"), "required");
   out["shape"] = parse_shape(r, *sj, key_path(path, "shape"), false, &spec->shape);
+  // Particles are kept only inside the grid domain: a shape wholly outside it samples nothing.
+  Vec3d lo, hi;
+  spec->shape.bounds(&lo, &hi);
+  for (int i = 0; i < r.dim; ++i)
+    r.check(hi[i] > scene.domain_min[i] && lo[i] < scene.domain_max[i], key_path(path, "shape"),
+            "lies outside the grid domain along axis " + std::to_string(i) + " (shape spans [" +
+                num_str(lo[i]) + ", " + num_str(hi[i]) + "], domain [" +
+                num_str(scene.domain_min[i]) + ", " + num_str(scene.domain_max[i]) + "])");
 
   std::string mat = r.string(o, path, "material");
   spec->material = -1;
