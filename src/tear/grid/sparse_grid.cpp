@@ -138,6 +138,28 @@ void SparseGrid<Dim>::zero_scalar_fields() {
 }
 
 template <int Dim>
+std::vector<char> SparseGrid<Dim>::near_hot_blocks(const std::vector<char>& hot) const {
+  // Mark the 3^Dim slot neighbourhood of every hot home block (slot coordinates of home
+  // blocks are at least 1 and at most n_slots - 2, so the neighbourhood stays in the table).
+  std::vector<char> mark(table_.size(), 0);
+  int stride[Dim];
+  stride[0] = 1;
+  for (int d = 1; d < Dim; ++d) stride[d] = stride[d - 1] * n_slots_[d - 1];
+  int offsets[Dim == 2 ? 9 : 27], n_off = 0;
+  for (int k = 0; k < (Dim == 2 ? 9 : 27); ++k) {
+    int o = 0, rest = k;
+    for (int d = 0; d < Dim; ++d, rest /= 3) o += (rest % 3 - 1) * stride[d];
+    offsets[n_off++] = o;
+  }
+  for (size_t h = 0; h < home_blocks_.size(); ++h)
+    if (hot[h])
+      for (int o : offsets) mark[size_t(home_blocks_[h].slot + o)] = 1;
+  std::vector<char> near(home_blocks_.size());
+  for (size_t h = 0; h < home_blocks_.size(); ++h) near[h] = mark[size_t(home_blocks_[h].slot)];
+  return near;
+}
+
+template <int Dim>
 IVec<Dim> SparseGrid<Dim>::node_coord(int node) const {
   const IVec<Dim> b = slot_coord(block_slot_[node / kNodesPerBlock]);
   int local = node % kNodesPerBlock;

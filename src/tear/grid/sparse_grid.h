@@ -70,6 +70,11 @@ class SparseGrid {
   // Bytes held by the table and node fields.
   size_t memory_bytes() const;
 
+  // For each home block (index into home_blocks()): whether a home block within one block
+  // along every axis is flagged in `hot` (same indexing). Stencils of particles whose home
+  // blocks are not near any hot one never share a node with the hot particles' stencils.
+  std::vector<char> near_hot_blocks(const std::vector<char>& hot) const;
+
   // Size and zero the scalar node fields of the active blocks (bin() leaves them alone:
   // only the damage solvers use them).
   void zero_scalar_fields();

@@ -19,7 +19,7 @@ nlohmann::json PhaseTimes::to_json() const {
 
 nlohmann::json FrameStats::to_json() const {
   auto vec = [](const Vec3d& v) { return nlohmann::json::array({v[0], v[1], v[2]}); };
-  return {{"frame", frame},
+  nlohmann::json j = {{"frame", frame},
           {"time", time},
           {"steps", steps},
           {"dt_min", dt_min},
@@ -34,11 +34,18 @@ nlohmann::json FrameStats::to_json() const {
           {"mean_damage", mean_damage},
           {"damaged_fraction", damaged_fraction},
           {"wall_s", wall_s}};
+  if (solver_figures) {
+    j["cg_solves"] = cg_solves;
+    j["cg_iterations"] = cg_iterations;
+    j["cg_iterations_max"] = cg_iterations_max;
+    j["residual"] = residual;
+  }
+  return j;
 }
 
 namespace {
 
-const std::string kCheckpointMagic = "TEARCKP2";
+const std::string kCheckpointMagic = "TEARCKP3";
 
 template <int Dim>
 class MpmSimulation final : public Simulation {
@@ -103,6 +110,13 @@ class MpmSimulation final : public Simulation {
           deterministic_sum<double>(n, [&](size_t i) { return p.damage[i] > 0.5 ? 1.0 : 0.0; }) /
           n;
     }
+    DamageSolveStats& ds = solver_.damage_stats();
+    s.solver_figures = solver_.scene().damage.solver == DamageSolver::Implicit;
+    s.cg_solves = ds.solves;
+    s.cg_iterations = ds.cg_iterations;
+    s.cg_iterations_max = ds.cg_iterations_max;
+    s.residual = ds.residual_max;
+    ds = DamageSolveStats();
     s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     steps_since_stats_ = 0;
     dt_min_ = std::numeric_limits<double>::infinity();
@@ -161,6 +175,12 @@ class MpmSimulation final : public Simulation {
     w.put<int64_t>(steps_since_stats_);
     w.put<double>(dt_min_);
     w.put<double>(dt_max_);
+    const DamageSolveStats& ds = solver_.damage_stats();
+    w.put<int64_t>(ds.solves);
+    w.put<int64_t>(ds.cg_iterations);
+    w.put<int32_t>(ds.cg_iterations_max);
+    w.put<double>(ds.residual_max);
+    w.put<int64_t>(ds.unconverged);
     w.put_vector(p.x);
     w.put_vector(p.v);
     w.put_vector(p.C);
@@ -192,6 +212,12 @@ class MpmSimulation final : public Simulation {
     const int frame = r.get<int32_t>();
     const long since = long(r.get<int64_t>());
     const double dt_min = r.get<double>(), dt_max = r.get<double>();
+    DamageSolveStats ds;
+    ds.solves = long(r.get<int64_t>());
+    ds.cg_iterations = long(r.get<int64_t>());
+    ds.cg_iterations_max = r.get<int32_t>();
+    ds.residual_max = r.get<double>();
+    ds.unconverged = long(r.get<int64_t>());
     Particles<Dim> p;
     std::vector<int> slots;
     r.get_vector(&p.x);
@@ -219,6 +245,7 @@ class MpmSimulation final : public Simulation {
     steps_since_stats_ = since;
     dt_min_ = dt_min;
     dt_max_ = dt_max;
+    solver_.damage_stats() = ds;
   }
 
   size_t memory_bytes() const override {

@@ -31,6 +31,12 @@ struct FrameStats {
   Vec3d angular_momentum = Vec3d::Zero();  // about the origin, including the APIC affine part
   double kinetic_energy = 0, elastic_energy = 0;
   double max_damage = 0, mean_damage = 0, damaged_fraction = 0;
+  // Implicit damage only (written when solver_figures): CG solves since the previous frame,
+  // their iterations summed and at most, the largest final relative residual.
+  bool solver_figures = false;
+  long cg_solves = 0, cg_iterations = 0;
+  int cg_iterations_max = 0;
+  double residual = 0;
   double wall_s = 0;     // wall time since the start of the run
   nlohmann::json to_json() const;
 };

@@ -89,63 +89,6 @@ Real MpmSolver<Dim>::degradation_of(size_t p) const {
 }
 
 template <int Dim>
-void MpmSolver<Dim>::damage_explicit(Real dt) {
-  const Real zeta = Real(scene_.damage.zeta), l0 = Real(scene_.damage.l0);
-  // Driving force with history, from the undegraded stress of the current F.
-  tbb::parallel_for(size_t(0), p_.size(), [&](size_t p) {
-    const DamageSpec& ds = damage_[p_.material[p]];
-    if (!ds.enabled) return;
-    const Real alpha[2] = {Real(ds.alpha[0]), Real(ds.alpha[1])};
-    const Real phi =
-        particle_phi<Dim>(mats_[p_.material[p]], p_.F[p], p_.fiber[p], alpha, Real(ds.sigma_c));
-    p_.drive[p] = std::max(p_.drive[p], zeta * std::max(phi - 1, Real(0)));
-  });
-  // Damage to the grid (cubic B-spline, normalised), coloured like the momentum P2G. While
-  // nothing is damaged the field and its Laplacian are zero: skip the transfer.
-  const bool any_damage =
-      parallel_max<Real>(p_.size(), [&](size_t p) { return p_.damage[p]; }, Real(0)) > 0;
-  if (any_damage) {
-    grid_.zero_scalar_fields();
-    const auto& order = grid_.order();
-    const auto& homes = grid_.home_blocks();
-    for (int c = 0; c < SparseGrid<Dim>::kColours; ++c) {
-      const std::vector<int>& blocks = grid_.colour(c);
-      tbb::parallel_for(size_t(0), blocks.size(), [&](size_t b) {
-        const auto& h = homes[blocks[b]];
-        for (uint32_t k = h.begin; k < h.end; ++k) {
-          const uint32_t p = order[k];
-          const Stencil<Dim, 3> st(grid_, p_.x[p]);
-          for (int q = 0; q < st.kSize; ++q) {
-            grid_.scalar[st.node[q]] += st.w[q] * p_.damage[p];
-            grid_.scalar_weight[st.node[q]] += st.w[q];
-          }
-        }
-      });
-    }
-    tbb::parallel_for(size_t(0), grid_.scalar.size(), [&](size_t i) {
-      if (grid_.scalar_weight[i] > 0) grid_.scalar[i] /= grid_.scalar_weight[i];
-    });
-  }
-  // Laplacian back to the particles, then the update: d grows where the undamaged part of
-  // the driving force beats the geometric resistance Dc = d - l0^2 Lap d (which also lets a
-  // crack widen to its regularised width l0).
-  tbb::parallel_for(size_t(0), p_.size(), [&](size_t p) {
-    const DamageSpec& ds = damage_[p_.material[p]];
-    if (!ds.enabled) return;
-    Real lap = 0;
-    if (any_damage) {
-      const Stencil<Dim, 3, kLaplacians> st(grid_, p_.x[p]);
-      for (int q = 0; q < st.kSize; ++q) lap += st.lap_w(q) * grid_.scalar[st.node[q]];
-    }
-    const Real d = p_.damage[p];
-    const Real resistance = d - l0 * l0 * lap;
-    const Real drive = (1 - d) * p_.drive[p];
-    if (drive > resistance)
-      p_.damage[p] = std::min(Real(1), d + dt / Real(ds.eta) * (drive - resistance));
-  });
-}
-
-template <int Dim>
 void MpmSolver<Dim>::p2g(Real dt) {
   const Real inv_d = BSpline1D<kOrder>::kInvD / Real(scene_.dx * scene_.dx);
   const bool apic = scene_.transfer == Transfer::Apic;
@@ -232,9 +175,9 @@ void MpmSolver<Dim>::step(double dt) {
   auto t0 = Clock::now();
   sort_particles();
   times_.sort += seconds_since(t0);
-  if (scene_.damage.solver == DamageSolver::Explicit) {
+  if (scene_.damage.solver != DamageSolver::None) {
     t0 = Clock::now();
-    damage_explicit(Real(dt));
+    damage_update(Real(dt));
     times_.damage += seconds_since(t0);
   }
   t0 = Clock::now();

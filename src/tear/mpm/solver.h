@@ -1,6 +1,7 @@
-// mpm/: the explicit MPM step of paper Fig. 13 (damage comes in a later module):
-//   sort -> P2G (APIC/MLS momentum and stress) -> grid update (gravity, walls, colliders)
-//   -> G2P (velocity, affine matrix, position, F).
+// mpm/: the explicit MPM step of paper Fig. 13:
+//   sort -> damage (explicit or implicit phase field, mpm/damage_step.cpp) -> P2G (APIC/MLS
+//   momentum and degraded stress) -> grid update (gravity, walls, colliders) -> G2P
+//   (velocity, affine matrix, position, F).
 #pragma once
 
 #include "tear/grid/sparse_grid.h"
@@ -12,6 +13,15 @@
 #include <vector>
 
 namespace tear {
+
+// Implicit damage solves since the counters were last reset (stats.jsonl figures).
+struct DamageSolveStats {
+  long solves = 0;
+  long cg_iterations = 0;      // summed over the solves
+  int cg_iterations_max = 0;   // of one solve
+  double residual_max = 0;     // largest final relative residual
+  long unconverged = 0;        // solves that hit damage.cg_max_iterations
+};
 
 template <int Dim>
 class MpmSolver {
@@ -25,6 +35,12 @@ class MpmSolver {
   double estimate_dt() const;
   // One symplectic Euler step of size dt from time() to time() + dt.
   void step(double dt);
+
+  // The damage update of one step alone, particles held still (tests): bins the particles,
+  // then does what step() does for damage.
+  void damage_step(double dt);
+  const DamageSolveStats& damage_stats() const { return damage_stats_; }
+  DamageSolveStats& damage_stats() { return damage_stats_; }
 
   const Particles<Dim>& particles() const { return p_; }
   Particles<Dim>& particles() { return p_; }
@@ -53,9 +69,20 @@ class MpmSolver {
 
  private:
   void sort_particles();
-  // Explicit phase-field damage (supplement Alg. 3-5, EQUATIONS.md §1): driving force with
-  // history, damage to the grid with the cubic B-spline, its Laplacian back, update.
+  // Driving force with history (EQUATIONS.md §1), then the scene's damage solver; nothing
+  // when damage.solver is none. Needs the binning of the current positions.
+  void damage_update(Real dt);
+  // Driving force with history (EQUATIONS.md §1) for every damageable particle.
+  void update_driving_force();
+  // Home blocks (index into grid_.home_blocks()) near particles whose damage (or, with
+  // `with_drive`, driving force) is non-zero: only there can this step change the field.
+  std::vector<char> active_damage_blocks(bool with_drive) const;
+  // Explicit phase-field damage (supplement Alg. 3-5): damage to the grid with the cubic
+  // B-spline, its Laplacian back, forward Euler update.
   void damage_explicit(Real dt);
+  // Implicit phase-field damage (supplement Alg. 6-10): backward Euler system on the grid
+  // (MLS weak form), Jacobi-PCG, FLIP or PIC back to the particles.
+  void damage_implicit(Real dt);
   // g(d) of particle p: 1 for materials without damage.
   Real degradation_of(size_t p) const;
   void p2g(Real dt);
@@ -73,6 +100,10 @@ class MpmSolver {
   double time_ = 0;
   long steps_ = 0;
   PhaseTimes times_;
+  DamageSolveStats damage_stats_;
+  // Implicit damage scratch: per-node fields, per-particle Laplacian coefficients, CG vectors.
+  std::vector<Real> implicit_fields_[6];
+  std::vector<Real> laplace_coef_, rhs_, inv_diag_, solution_;
 };
 
 }  // namespace tear

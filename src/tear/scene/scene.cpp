@@ -76,23 +76,30 @@ json parse_damage(const Reader& r, const json& doc, Scene* s) {
   static const json kEmpty = json::object();
   const json* d = r.find(doc, "damage");
   if (!d) d = &kEmpty;
-  r.object(*d, "damage", {"solver", "l0", "zeta", "transfer"});
+  r.object(*d, "damage",
+           {"solver", "l0", "zeta", "transfer", "cg_tolerance", "cg_max_iterations"});
   DamageSolverSpec& ds = s->damage;
   ds.solver = DamageSolver(r.choice(*d, "damage", "solver", {"none", "explicit", "implicit"}, 0));
-  // Accepted by the format, not yet by the solver: refuse rather than silently ignore.
-  r.check(ds.solver != DamageSolver::Implicit, "damage.solver",
-          "\"implicit\": not implemented yet");
   ds.l0 = r.number(*d, "damage", "l0", 0.5 * s->dx);
   r.positive(ds.l0, "damage.l0");
   ds.zeta = r.number(*d, "damage", "zeta", 1.0);
   r.positive(ds.zeta, "damage.zeta");
   ds.transfer = r.choice(*d, "damage", "transfer", {"flip", "pic"}, 0) == 0 ? Transfer::Flip
                                                                               : Transfer::Pic;
+  ds.cg_tolerance = r.number(*d, "damage", "cg_tolerance", ds.cg_tolerance);
+  r.check(ds.cg_tolerance > 0 && ds.cg_tolerance < 1, "damage.cg_tolerance",
+          "must be in (0, 1), got " + json(ds.cg_tolerance).dump());
+  ds.cg_max_iterations = int(r.integer(*d, "damage", "cg_max_iterations", ds.cg_max_iterations));
+  r.check(ds.cg_max_iterations >= 1 && ds.cg_max_iterations <= 100000,
+          "damage.cg_max_iterations",
+          "must be in [1, 100000], got " + std::to_string(ds.cg_max_iterations));
   const char* solvers[] = {"none", "explicit", "implicit"};
   return {{"solver", solvers[int(ds.solver)]},
           {"l0", ds.l0},
           {"zeta", ds.zeta},
-          {"transfer", ds.transfer == Transfer::Flip ? "flip" : "pic"}};
+          {"transfer", ds.transfer == Transfer::Flip ? "flip" : "pic"},
+          {"cg_tolerance", ds.cg_tolerance},
+          {"cg_max_iterations", ds.cg_max_iterations}};
 }
 
 json parse_output(const Reader& r, const json& doc, Scene* s) {

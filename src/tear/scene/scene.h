@@ -36,6 +36,8 @@ struct DamageSolverSpec {
   double l0 = 0;                       // length scale; the scene's null resolves to 0.5 dx
   double zeta = 1;                     // slope of the driving force
   Transfer transfer = Transfer::Flip;  // implicit damage back to particles: Flip or Pic only
+  double cg_tolerance = 1e-6;          // implicit: relative residual |c - K d| / |c| to reach
+  int cg_max_iterations = 500;         // implicit: CG gives up (and reports it) after this
 };
 
 // Per-material damage parameters ("materials.NAME.damage"); enabled = false when omitted/null.

@@ -1,0 +1,74 @@
+// solvers/: Jacobi-preconditioned conjugate gradients on plain vectors, matrix-free.
+// Dot products are deterministic sums (math/parallel.h), so the iterates, and the iteration
+// count, are bit-identical for any thread count.
+#pragma once
+
+#include "tear/math/parallel.h"
+#include "tear/math/types.h"
+
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <vector>
+
+namespace tear {
+
+struct PcgResult {
+  int iterations = 0;
+  double residual = 0;  // final |r| / |b| (0 when b = 0)
+  bool converged = false;
+};
+
+// Solves K x = b for symmetric positive (semi-)definite K given as apply(x, y): y = K x.
+// inv_diag holds 1 / K_ii where the unknown takes part and 0 where it does not (those
+// entries of x are left alone and must not influence the others). x holds the initial guess.
+// Stops when |b - K x| <= tolerance |b| or after max_iterations.
+template <class Apply>
+PcgResult pcg_solve(Apply&& apply, const std::vector<Real>& b, const std::vector<Real>& inv_diag,
+                    double tolerance, int max_iterations, std::vector<Real>* x_io) {
+  std::vector<Real>& x = *x_io;
+  const size_t n = b.size();
+  auto dot = [n](const std::vector<Real>& u, const std::vector<Real>& v) {
+    return deterministic_sum<double>(n, [&](size_t i) { return double(u[i]) * double(v[i]); });
+  };
+  auto for_each = [n](auto&& f) { tbb::parallel_for(size_t(0), n, f); };
+
+  PcgResult res;
+  const double b_norm = std::sqrt(dot(b, b));
+  if (b_norm == 0) {
+    for_each([&](size_t i) {
+      if (inv_diag[i] != 0) x[i] = 0;
+    });
+    return {0, 0, true};
+  }
+  std::vector<Real> r(n), z(n), p(n), q(n);
+  apply(x, q);
+  for_each([&](size_t i) {
+    r[i] = inv_diag[i] != 0 ? b[i] - q[i] : Real(0);
+    z[i] = inv_diag[i] * r[i];
+    p[i] = z[i];
+  });
+  double rz = dot(r, z);
+  res.residual = std::sqrt(dot(r, r)) / b_norm;
+  while (res.residual > tolerance && res.iterations < max_iterations) {
+    apply(p, q);
+    const double pq = dot(p, q);
+    if (!(pq > 0)) break;  // breakdown (K singular along p): keep the best iterate so far
+    const Real step = Real(rz / pq);
+    for_each([&](size_t i) {
+      x[i] += step * p[i];
+      r[i] -= step * q[i];
+      z[i] = inv_diag[i] * r[i];
+    });
+    const double rz_new = dot(r, z);
+    const Real beta = Real(rz_new / rz);
+    rz = rz_new;
+    for_each([&](size_t i) { p[i] = z[i] + beta * p[i]; });
+    ++res.iterations;
+    res.residual = std::sqrt(dot(r, r)) / b_norm;
+  }
+  res.converged = res.residual <= tolerance;
+  return res;
+}
+
+}  // namespace tear
