@@ -41,7 +41,7 @@ int main(int argc, char** argv) {
   long stress_evals = 10000000, particles = 475000;
   int steps = 20;
   std::vector<int> thread_counts{1, 2};
-  bool quick = false;
+  bool quick = false, no_damage = false;
   CLI::App* bench_cmd = app.add_subcommand("bench", "Benchmark suite; JSON figures on stdout");
   bench_cmd->add_option("--stress-evals", stress_evals, "Stress evaluations per model")
       ->capture_default_str()
@@ -56,6 +56,8 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->delimiter(',')
       ->check(CLI::PositiveNumber);
+  bench_cmd->add_flag("--no-damage", no_damage,
+                      "Skip the damage benchmark (step cost with explicit and implicit damage)");
   bench_cmd->add_flag("--quick", quick,
                       "Small sizes, seconds in all: 1e5 evaluations, 20000 particles, 5 steps");
 
@@ -83,6 +85,12 @@ int main(int argc, char** argv) {
         std::cerr << "explicit step: " << particles << " particles, " << steps << " steps, " << t
                   << " thread(s)...\n";
         out["step"].push_back(tear::bench_step(particles, steps, t));
+      }
+      if (!no_damage) {
+        const int t = thread_counts.back();
+        std::cerr << "damage step (none, explicit, implicit): " << particles << " particles, "
+                  << steps << " steps, " << t << " thread(s)...\n";
+        out["damage"] = tear::bench_damage(particles, steps, t);
       }
       std::cout << out.dump(2) << std::endl;
       return 0;

@@ -48,8 +48,9 @@ nlohmann::json bench_stress(long evaluations) {
   return out;
 }
 
-nlohmann::json bench_step(long particles, int steps, int threads) {
-  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+// The 3D benchmark block: qr_aniso with fibers, 8 lattice particles per cell on a 64^3 grid,
+// about `particles` particles, spinning.
+static Scene bench_block_scene(long particles) {
   Scene s;
   s.name = "bench_block";
   s.dim = 3;
@@ -75,6 +76,12 @@ nlohmann::json bench_step(long particles, int steps, int threads) {
   o.fibers.a1 = Vec3d(1, 1, 0).normalized();
   s.objects.push_back(o);
 
+  return s;
+}
+
+nlohmann::json bench_step(long particles, int steps, int threads) {
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+  const Scene s = bench_block_scene(particles);
   MpmSolver<3> sim(s);
   const double dt = sim.estimate_dt();  // fixed, so every thread count does the same work
   sim.step(dt);  // warm-up: first binning, allocation
@@ -97,6 +104,46 @@ nlohmann::json bench_step(long particles, int steps, int threads) {
           {"phase_s", phases},
           {"active_grid_nodes", sim.grid().num_active_nodes()},
           {"bytes_per_particle", double(bytes) / n}};
+}
+
+nlohmann::json bench_damage(long particles, int steps, int threads) {
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+  Scene s = bench_block_scene(particles);
+  s.gravity = Vec3d::Zero();
+  s.objects[0].angular_velocity = Vec3d::Zero();
+  DamageSpec& d = s.materials[0].damage;
+  d.enabled = true;
+  d.sigma_c = 50;  // the 5% stretch below gives sigma ~ 500: Phi ~ 100 everywhere
+  d.eta = 1;
+  d.residual = 0.001;
+  d.alpha[0] = -1;
+  s.damage.l0 = 0.5 * s.dx;
+  const char* names[3] = {"none", "explicit", "implicit"};
+  nlohmann::json out = {{"threads", threads}, {"steps", steps}};
+  double per_step[3] = {0, 0, 0};
+  for (int k = 0; k < 3; ++k) {
+    s.damage.solver = DamageSolver(k);
+    MpmSolver<3> sim(s);
+    for (Mat<3>& F : sim.particles().F) F(0, 0) = Real(1.05);
+    const double dt = sim.estimate_dt();
+    sim.step(dt);  // warm-up; from here on the damage field is non-zero everywhere
+    const PhaseTimes before = sim.phase_times();
+    sim.damage_stats() = DamageSolveStats();
+    const auto t0 = Clock::now();
+    for (int i = 0; i < steps; ++i) sim.step(dt);
+    per_step[k] = since(t0) / steps;
+    nlohmann::json r = {{"s_per_step", per_step[k]},
+                        {"damage_s_per_step", (sim.phase_times().damage - before.damage) / steps},
+                        {"particles", sim.particles().size()}};
+    if (k > 0) r["cost_vs_none"] = per_step[k] / per_step[0];
+    if (k == 2) {
+      const DamageSolveStats& ds = sim.damage_stats();
+      r["cg_iterations_per_solve"] = ds.solves ? double(ds.cg_iterations) / ds.solves : 0.0;
+      r["cg_iterations_max"] = ds.cg_iterations_max;
+    }
+    out[names[k]] = r;
+  }
+  return out;
 }
 
 }  // namespace tear

@@ -14,4 +14,10 @@ nlohmann::json bench_stress(long evaluations);
 // seconds per phase, bytes per particle.
 nlohmann::json bench_step(long particles, int steps, int threads);
 
+// Cost of the damage update on the same 3D block as bench_step, every particle damageable
+// and pre-stretched past sigma_c (the worst case: the damage field is active everywhere):
+// seconds per step with damage none / explicit / implicit and their ratio to none, plus the
+// implicit CG iterations per solve.
+nlohmann::json bench_damage(long particles, int steps, int threads);
+
 }  // namespace tear
