@@ -104,11 +104,11 @@ void MpmSolver<Dim>::damage_explicit(Real dt) {
   // Damage to the grid (cubic B-spline, normalised).
   grid_.zero_scalar_fields();
   for_active_particles_coloured(grid_, active, [&](uint32_t p) {
-    const Stencil<Dim, kDamageOrder> st(grid_, p_.x[p]);
-    for (int q = 0; q < st.kSize; ++q) {
-      grid_.scalar[st.node[q]] += st.w[q] * p_.damage[p];
-      grid_.scalar_weight[st.node[q]] += st.w[q];
-    }
+    const Real d = p_.damage[p];
+    SeparableStencil<Dim, kDamageOrder>(grid_, p_.x[p]).visit([&](int i, Real w, const Vec<Dim>&) {
+      grid_.scalar[i] += w * d;
+      grid_.scalar_weight[i] += w;
+    });
   });
   tbb::parallel_for(size_t(0), grid_.num_active_nodes(), [&](size_t i) {
     if (grid_.scalar_weight[i] > 0) grid_.scalar[i] /= grid_.scalar_weight[i];
@@ -163,17 +163,16 @@ void MpmSolver<Dim>::damage_implicit(Real dt) {
     const Real k = dt / Real(ds.eta), D = p_.drive[p], d = p_.damage[p];
     const Real a = V * (1 + k * (D + 1)), cd = V * k * D, bl = V * k * l2;
     laplace_coef_[p] = bl * inv_m * inv_m;
-    const Stencil<Dim, kDamageOrder> st(grid_, p_.x[p]);
-    for (int q = 0; q < st.kSize; ++q) {
-      const int i = st.node[q];
-      const Real w = st.w[q];
+    const Real lc = laplace_coef_[p];
+    SeparableStencil<Dim, kDamageOrder>(grid_, p_.x[p]).visit([&](int i, Real w,
+                                                                  const Vec<Dim>& rel) {
       f[kW][i] += w;
       f[kWd][i] += w * d;
       f[kA][i] += a * w;
       f[kCd][i] += cd * w;
       f[kVw][i] += V * w;
-      f[kBd][i] += laplace_coef_[p] * w * w * st.dpos(q).squaredNorm();
-    }
+      f[kBd][i] += lc * w * w * rel.squaredNorm();
+    });
   });
   // d_i^n (kept in grid_.scalar for the FLIP transfer), right-hand side, preconditioner.
   grid_.zero_scalar_fields();
@@ -194,11 +193,11 @@ void MpmSolver<Dim>::damage_implicit(Real dt) {
     tbb::parallel_for(size_t(0), nodes, [&](size_t i) { y[i] = f[kA][i] * x[i]; });
     for_active_particles_coloured(grid_, active, [&](uint32_t p) {
       if (!damage_[p_.material[p]].enabled) return;
-      const Stencil<Dim, kDamageOrder> st(grid_, p_.x[p]);
+      const SeparableStencil<Dim, kDamageOrder> st(grid_, p_.x[p]);
       Vec<Dim> g = Vec<Dim>::Zero();
-      for (int q = 0; q < st.kSize; ++q) g += (st.w[q] * x[st.node[q]]) * st.dpos(q);
+      st.visit([&](int i, Real w, const Vec<Dim>& rel) { g += (w * x[i]) * rel; });
       g *= laplace_coef_[p];
-      for (int q = 0; q < st.kSize; ++q) y[st.node[q]] += st.w[q] * st.dpos(q).dot(g);
+      st.visit([&](int i, Real w, const Vec<Dim>& rel) { y[i] += w * rel.dot(g); });
     });
   };
   const PcgResult res = pcg_solve(apply, rhs_, inv_diag_, scene_.damage.cg_tolerance,
@@ -214,12 +213,10 @@ void MpmSolver<Dim>::damage_implicit(Real dt) {
   const bool flip = scene_.damage.transfer == Transfer::Flip;
   for_active_particles(grid_, active, [&](uint32_t p) {
     if (!damage_[p_.material[p]].enabled) return;
-    const Stencil<Dim, kDamageOrder> st(grid_, p_.x[p]);
     Real d = flip ? p_.damage[p] : Real(0);
-    for (int q = 0; q < st.kSize; ++q) {
-      const int i = st.node[q];
-      d += st.w[q] * (flip ? solution_[i] - dn[i] : solution_[i]);
-    }
+    SeparableStencil<Dim, kDamageOrder>(grid_, p_.x[p]).visit([&](int i, Real w, const Vec<Dim>&) {
+      d += w * (flip ? solution_[i] - dn[i] : solution_[i]);
+    });
     p_.damage[p] = std::clamp(d, p_.damage[p], Real(1));
   });
 }
