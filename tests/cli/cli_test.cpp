@@ -280,6 +280,65 @@ TEST_F(Cli, InfoAndQuickBench) {
     EXPECT_GT(b["step"][i]["particles"].get<long>(), 10000);
     EXPECT_TRUE(b["step"][i].contains("phase_s"));
   }
+  for (const char* k : {"none", "explicit", "implicit"})
+    EXPECT_GT(b["damage"][k]["s_per_step"].get<double>(), 0) << k;
+  EXPECT_GE(b["damage"]["implicit"]["cg_iterations_per_solve"].get<double>(), 1.0);
+  EXPECT_GT(b["damage"]["implicit"]["cost_vs_none"].get<double>(), 1.0);
+}
+
+// A fibered block pulled apart by two grips, with implicit damage: it cracks.
+json tearing_scene() {
+  return json::parse(R"({
+    "name": "cli_tear", "dim": 2,
+    "grid": { "dx": 0.03125, "domain_min": [0, 0], "domain_max": [1, 1] },
+    "time": { "frame_dt": 0.05, "frames": 4 },
+    "damage": { "solver": "implicit" },
+    "materials": { "m": { "model": "qr_aniso", "E": 100, "nu": 0.25, "rho": 2,
+                          "fiber_scale": [10],
+                          "damage": { "sigma_c": 3, "eta": 0.05, "alpha": -1 } } },
+    "objects": [ { "shape": { "type": "box", "min": [0.3, 0.3], "max": [0.7, 0.7] },
+                   "material": "m", "ppc": 4, "sampling": "grid",
+                   "fibers": { "type": "constant", "a1": [1, 1] } } ],
+    "boundaries": [
+      { "type": "sticky", "shape": { "type": "box", "min": [0.2, 0.64], "max": [0.8, 0.75] },
+        "velocity": [0, 0.4] },
+      { "type": "sticky", "shape": { "type": "box", "min": [0.2, 0.25], "max": [0.8, 0.36] },
+        "velocity": [0, -0.4] } ],
+    "output": { "every": 1, "checkpoint_every": 1 }
+  })");
+}
+
+TEST_F(Cli, ImplicitDamageRecordsCgFiguresAndResumesBitIdentically) {
+  const std::string s = write_scene(tearing_scene());
+  ASSERT_EQ(tear("run " + s + " -o " + path("full") + " -q"), 0) << err_;
+  EXPECT_EQ(err_.find("warning"), std::string::npos) << err_;
+  const std::vector<json> a = stats(path("full"));
+  ASSERT_EQ(a.size(), 5u);
+  EXPECT_GT(a.back()["max_damage"].get<double>(), 0.9);
+  long solves = 0, iterations = 0;
+  for (const json& f : a) {
+    for (const char* k : {"cg_solves", "cg_iterations", "cg_iterations_max", "cg_unconverged",
+                          "residual"})
+      EXPECT_TRUE(f.contains(k)) << k;
+    solves += f["cg_solves"].get<long>();
+    iterations += f["cg_iterations"].get<long>();
+    EXPECT_EQ(f["cg_unconverged"], 0);
+    EXPECT_LE(f["residual"].get<double>(), 1e-6);
+  }
+  EXPECT_GT(solves, 0);
+  EXPECT_LE(iterations, 3 * solves);
+  // Resume half way: same bits.
+  ASSERT_EQ(tear("run " + s + " -o " + path("part") + " -q --frames 2"), 0) << err_;
+  ASSERT_EQ(tear("run " + s + " -o " + path("part") + " -q --resume --frames 4"), 0) << err_;
+  EXPECT_EQ(read_file(path("full/frames/00004.ply")), read_file(path("part/frames/00004.ply")));
+  // A CG that cannot converge is reported once on stderr, and counted.
+  ASSERT_EQ(tear("run " + s + " -o " + path("capped") +
+                 " -q --set damage.cg_max_iterations=1 --set damage.cg_tolerance=1e-14"),
+            0)
+      << err_;
+  EXPECT_NE(err_.find("warning: frame"), std::string::npos) << err_;
+  EXPECT_EQ(err_.find("warning", err_.find("warning") + 1), std::string::npos) << err_;
+  EXPECT_GT(stats(path("capped")).back()["cg_unconverged"].get<long>(), 0);
 }
 
 }  // namespace

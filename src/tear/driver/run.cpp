@@ -190,6 +190,7 @@ int run_scene(const RunOptions& o) {
 
     Progress progress(!o.quiet, scene.frames, sim->frame());
     const long steps_before = sim->total_steps();
+    bool warned_cg = false;
     while (sim->frame() < scene.frames) {
       sim->advance_frame();
       const int frame = sim->frame();
@@ -198,6 +199,15 @@ int run_scene(const RunOptions& o) {
       if (!std::isfinite(s.kinetic_energy) || !std::isfinite(s.momentum.norm()))
         return fail("the simulation became unstable at frame " + std::to_string(frame) +
                     " (non-finite velocities); lower time.cfl or time.max_dt");
+      if (s.cg_unconverged > 0 && !warned_cg) {
+        std::fprintf(stderr,
+                     "tear: warning: frame %d: %ld implicit damage solve(s) stopped at "
+                     "damage.cg_max_iterations = %d with residual %.3g > damage.cg_tolerance "
+                     "%.3g (stats.jsonl: cg_unconverged, residual); shown once\n",
+                     frame, s.cg_unconverged, scene.damage.cg_max_iterations, s.residual,
+                     scene.damage.cg_tolerance);
+        warned_cg = true;
+      }
       if (frame % scene.output_every == 0 || frame == scene.frames)
         write_file_atomic(frame_path(o.out_dir, frame), sim->encode_ply());
       stats.push_back(s.to_json().dump());

@@ -38,6 +38,7 @@ nlohmann::json FrameStats::to_json() const {
     j["cg_solves"] = cg_solves;
     j["cg_iterations"] = cg_iterations;
     j["cg_iterations_max"] = cg_iterations_max;
+    j["cg_unconverged"] = cg_unconverged;
     j["residual"] = residual;
   }
   return j;
@@ -116,6 +117,7 @@ class MpmSimulation final : public Simulation {
     s.cg_iterations = ds.cg_iterations;
     s.cg_iterations_max = ds.cg_iterations_max;
     s.residual = ds.residual_max;
+    s.cg_unconverged = ds.unconverged;
     ds = DamageSolveStats();
     s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     steps_since_stats_ = 0;

@@ -34,7 +34,7 @@ struct FrameStats {
   // Implicit damage only (written when solver_figures): CG solves since the previous frame,
   // their iterations summed and at most, the largest final relative residual.
   bool solver_figures = false;
-  long cg_solves = 0, cg_iterations = 0;
+  long cg_solves = 0, cg_iterations = 0, cg_unconverged = 0;
   int cg_iterations_max = 0;
   double residual = 0;
   double wall_s = 0;     // wall time since the start of the run
