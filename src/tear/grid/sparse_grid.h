@@ -157,9 +157,27 @@ struct SeparableStencil {
   static constexpr int kWidth = Order + 1;
   static constexpr int kSize = Dim == 2 ? kWidth * kWidth : kWidth * kWidth * kWidth;
   int node[kSize];
-  Real w1[Dim][kWidth], rel1[Dim][kWidth];
+  Real w1[Dim][kWidth], rel1[Dim][kWidth], dd1[Dim][kWidth];  // dd1: N'' in world units
 
   SeparableStencil(const SparseGrid<Dim>& grid, const Vec<Dim>& x);
+
+  // fn(node, Laplacian of N_i at x_p) for every node.
+  template <class Fn>
+  void visit_laplacian(Fn&& fn) const {
+    int q = 0;
+    if constexpr (Dim == 2) {
+      for (int j = 0; j < kWidth; ++j)
+        for (int i = 0; i < kWidth; ++i, ++q)
+          fn(node[q], dd1[0][i] * w1[1][j] + w1[0][i] * dd1[1][j]);
+    } else {
+      for (int k = 0; k < kWidth; ++k)
+        for (int j = 0; j < kWidth; ++j) {
+          const Real wjk = w1[1][j] * w1[2][k];
+          const Real ljk = dd1[1][j] * w1[2][k] + w1[1][j] * dd1[2][k];
+          for (int i = 0; i < kWidth; ++i, ++q) fn(node[q], dd1[0][i] * wjk + w1[0][i] * ljk);
+        }
+    }
+  }
 
   template <class Fn>
   void visit(Fn&& fn) const {
@@ -275,6 +293,7 @@ inline SeparableStencil<Dim, Order>::SeparableStencil(const SparseGrid<Dim>& gri
       local[d][k] = (gp & (G::kBlock - 1)) << (G::kLogBlock * d);
       w1[d][k] = s.w[k];
       rel1[d][k] = (Real(s.base + k) - xg[d]) * Real(grid.dx());
+      dd1[d][k] = s.ddw[k] * inv_dx * inv_dx;
     }
   }
   int q = 0;

@@ -125,8 +125,8 @@ void MpmSolver<Dim>::damage_explicit(Real dt) {
       if (!ds.enabled) continue;
       Real lap = 0;
       if (active[b]) {
-        const Stencil<Dim, kDamageOrder, kLaplacians> st(grid_, p_.x[p]);
-        for (int q = 0; q < st.kSize; ++q) lap += st.lap_w(q) * grid_.scalar[st.node[q]];
+        SeparableStencil<Dim, kDamageOrder>(grid_, p_.x[p]).visit_laplacian(
+            [&](int i, Real lap_w) { lap += lap_w * grid_.scalar[i]; });
       }
       const Real d = p_.damage[p];
       const Real resistance = d - l0 * l0 * lap;
