@@ -109,17 +109,16 @@ void MpmSolver<Dim>::p2g(Real dt) {
         const Real m = p_.mass[p];
         if (apic) affine += m * p_.C[p];
         const Vec<Dim> mv = m * p_.v[p];
-        const Stencil<Dim, kOrder> st(grid_, p_.x[p]);
-        for (int q = 0; q < st.kSize; ++q) {
-          const int node = st.node[q];
-          grid_.mass[node] += st.w[q] * m;
+        SeparableStencil<Dim, kOrder>(grid_, p_.x[p]).visit([&](int node, Real w,
+                                                                const Vec<Dim>& rel) {
+          grid_.mass[node] += w * m;
           // mv + affine (x_i - x_p), column by column: Eigen's product temporaries here
           // cost store-forwarding stalls.
           Vec<Dim> dv = mv;
-          for (int c = 0; c < Dim; ++c) dv += affine.col(c) * st.dpos(q)[c];
-          grid_.velocity[node] += st.w[q] * dv;
-          if (flip) grid_.velocity_old[node] += st.w[q] * mv;  // force-free momentum
-        }
+          for (int c = 0; c < Dim; ++c) dv += affine.col(c) * rel[c];
+          grid_.velocity[node] += w * dv;
+          if (flip) grid_.velocity_old[node] += w * mv;  // force-free momentum
+        });
       }
     });
   }
