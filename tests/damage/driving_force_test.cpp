@@ -40,6 +40,39 @@ TEST(TensilePart, KeepsOnlyPositiveEigenvalues) {
   EXPECT_LT(tensile_part<2>(-Mat<2>::Identity()).norm(), 1e-15);
 }
 
+// Every sign pattern of eigenvalues (definite ones take a shortcut), against an explicit
+// eigen-decomposition.
+template <int Dim>
+void check_tensile_part_sign_patterns() {
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(0.1, 2);
+  for (int pattern = 0; pattern < (1 << Dim); ++pattern)
+    for (int k = 0; k < 20; ++k) {
+      Vec<Dim> lambda, positive;
+      for (int d = 0; d < Dim; ++d) {
+        lambda[d] = Real(((pattern >> d) & 1 ? 1 : -1) * u(rng));
+        positive[d] = std::max(lambda[d], Real(0));
+      }
+      Mat<Dim> Q;
+      if constexpr (Dim == 2) {
+        Q = frame2(360 * u(rng));
+      } else {
+        Q = Eigen::AngleAxis<Real>(Real(3 * u(rng)), Vec<3>(u(rng), -u(rng), u(rng)).normalized())
+                .toRotationMatrix();
+      }
+      const Mat<Dim> sym = Q * lambda.asDiagonal() * Q.transpose();
+      const Mat<Dim> expected = Q * positive.asDiagonal() * Q.transpose();
+      EXPECT_LT((tensile_part<Dim>(sym) - expected).norm(), 1e-12) << "pattern " << pattern;
+    }
+}
+
+TEST(TensilePart, EverySignPatternMatchesTheEigenDecomposition2D) {
+  check_tensile_part_sign_patterns<2>();
+}
+TEST(TensilePart, EverySignPatternMatchesTheEigenDecomposition3D) {
+  check_tensile_part_sign_patterns<3>();
+}
+
 TEST(DrivingForce, TensionAlongTheFiberDoesNotDriveCracksAcrossItDoes) {
   const Real alpha[2] = {-1, 0};
   const double s = 3, sigma_c = 2;

@@ -10,6 +10,22 @@ namespace tear {
 
 template <int Dim>
 Mat<Dim> tensile_part(const Mat<Dim>& sym) {
+  // Shortcut for definite stresses (pure tension or compression): the characteristic
+  // polynomial's coefficients (trace, sum of principal 2x2 minors, determinant) all >= 0
+  // mean no negative eigenvalue (Descartes' rule; the roots are real); trace and determinant
+  // <= 0 with minors >= 0 mean no positive one.
+  const Real c2 = sym.trace(), c0 = sym.determinant();
+  Real c1 = 0;
+  if constexpr (Dim == 2) {
+    c1 = c0;
+  } else {
+    c1 = sym(0, 0) * sym(1, 1) - sym(0, 1) * sym(1, 0) + sym(0, 0) * sym(2, 2) -
+         sym(0, 2) * sym(2, 0) + sym(1, 1) * sym(2, 2) - sym(1, 2) * sym(2, 1);
+  }
+  if (c1 >= 0) {
+    if (c2 >= 0 && c0 >= 0) return sym;
+    if (c2 <= 0 && (Dim == 2 || c0 <= 0)) return Mat<Dim>::Zero();
+  }
   Eigen::SelfAdjointEigenSolver<Mat<Dim>> eig;
   eig.computeDirect(sym);
   const Vec<Dim> positive = eig.eigenvalues().cwiseMax(Real(0));
