@@ -39,13 +39,15 @@ void check_binning() {
   for (int s : seen) EXPECT_EQ(s, 1);
   // Every stencil node of every particle is active and maps back to its coordinates.
   for (const auto& p : x) {
-    const Stencil<Dim, 3> st(g, p);
-    for (int q = 0; q < st.kSize; ++q) {
-      ASSERT_GE(st.node[q], 0);
-      const Vec<Dim> xi = g.node_position(st.node[q]);
-      EXPECT_TRUE((xi - p - st.dpos(q)).norm() < 1e-12);
-      EXPECT_EQ(g.node_index(g.node_coord(st.node[q])), st.node[q]);
-    }
+    int visited = 0;
+    Stencil<Dim, 3>(g, p).visit([&](int node, Real, const Vec<Dim>& rel) {
+      ASSERT_GE(node, 0);
+      const Vec<Dim> xi = g.node_position(node);
+      EXPECT_TRUE((xi - p - rel).norm() < 1e-12);
+      EXPECT_EQ(g.node_index(g.node_coord(node)), node);
+      ++visited;
+    });
+    EXPECT_EQ(visited, (Stencil<Dim, 3>::kSize));
   }
   // Same-colour home blocks are at least two blocks apart on some axis.
   size_t total = 0;
@@ -58,21 +60,33 @@ void check_binning() {
 TEST(SparseGrid, BinningIsAStableGroupingAndStencilsAreActive2D) { check_binning<2>(); }
 TEST(SparseGrid, BinningIsAStableGroupingAndStencilsAreActive3D) { check_binning<3>(); }
 
-TEST(SparseGrid, StencilWeightsArePartitionOfUnity) {
+TEST(SparseGrid, StencilWeightsReproduceConstantsLinesAndTheMlsInertia) {
   SparseGrid<3> g;
   g.setup(Vec3d::Zero(), Vec3d::Ones(), 0.05);
   auto x = random_points<3>(100, 0.2, 0.8, 5);
   g.bin(x);
   for (const auto& p : x) {
-    const Stencil<3, 2, kGradients> st(g, p);
-    double sw = 0;
-    Vec<3> swx = Vec<3>::Zero(), sg = Vec<3>::Zero();
-    for (int q = 0; q < st.kSize; ++q) {
-      sw += st.w[q], swx += st.w[q] * st.dpos(q), sg += st.grad_w(q);
+    for (int order : {2, 3}) {
+      double sw = 0, slap = 0;
+      Vec<3> swx = Vec<3>::Zero();
+      Mat<3> swxx = Mat<3>::Zero();
+      auto add = [&](int, Real w, const Vec<3>& rel) {
+        sw += w, swx += w * rel, swxx += w * rel * rel.transpose();
+      };
+      if (order == 2) {
+        Stencil<3, 2>(g, p).visit(add);
+      } else {
+        const Stencil<3, 3> st(g, p);
+        st.visit(add);
+        st.visit_laplacian([&](int, Real lap_w) { slap += lap_w; });
+        EXPECT_LT(std::abs(slap), 1e-9 / (0.05 * 0.05));  // Laplacian of a constant
+      }
+      EXPECT_NEAR(sw, 1, 1e-13);
+      EXPECT_LT(swx.norm(), 1e-13);  // linear reproduction: sum w (x_i - x_p) = 0
+      // sum w (x_i - x_p)(x_i - x_p)^T = dx^2 / kInvD I: the MLS-MPM inertia (4, resp. 3).
+      const double inv_d = order == 2 ? 4 : 3;
+      EXPECT_LT((swxx - Mat<3>::Identity() * (0.05 * 0.05 / inv_d)).norm(), 1e-15);
     }
-    EXPECT_NEAR(sw, 1, 1e-13);
-    EXPECT_LT(swx.norm(), 1e-13);
-    EXPECT_LT(sg.norm(), 1e-10);
   }
 }
 
@@ -212,9 +226,9 @@ void check_laplacian() {
       }
       double worst = 0;
       for (const auto& p : x) {
-        const Stencil<Dim, 3, kLaplacians> st(g, p);
         double lap = 0;
-        for (int q = 0; q < st.kSize; ++q) lap += st.lap_w(q) * g.scalar[st.node[q]];
+        Stencil<Dim, 3>(g, p).visit_laplacian(
+            [&](int node, Real lap_w) { lap += lap_w * g.scalar[node]; });
         const double exact = field == 0 ? 10.0 : -25.0 * wave(p);
         worst = std::max(worst, std::abs(lap - exact));
       }

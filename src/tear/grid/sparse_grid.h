@@ -107,58 +107,18 @@ class SparseGrid {
   std::vector<int> colours_[kColours];
 };
 
-// Weights and node indices of one particle's B-spline stencil (Order 2 or 3).
-// What a Stencil computes besides node indices, weights and x_i - x_p.
-enum StencilExtras { kWeightsOnly = 0, kGradients = 1, kLaplacians = 2 };
-
-template <int Dim, int Order, int kExtras = kWeightsOnly>
-struct Stencil {
-  static constexpr bool kGrad = (kExtras & kGradients) != 0;
-  static constexpr bool kLap = (kExtras & kLaplacians) != 0;
-  static constexpr int kWidth = Order + 1;
-  static constexpr int kSize = Dim == 2 ? kWidth * kWidth : kWidth * kWidth * kWidth;
-  int node[kSize];
-  Real w[kSize];
-
-  Stencil(const SparseGrid<Dim>& grid, const Vec<Dim>& x);
-  // x_i - x_p (world units).
-  Vec<Dim> dpos(int q) const { return gather(dpos_, q); }
-  // Gradient of N_i at x_p (world units); only with kGradients.
-  Vec<Dim> grad_w(int q) const {
-    static_assert(kGrad, "Stencil: gradients were not requested");
-    return gather(grad_w_, q);
-  }
-  // Laplacian of N_i at x_p (world units); only with kLaplacians.
-  Real lap_w(int q) const {
-    static_assert(kLap, "Stencil: Laplacians were not requested");
-    return lap_w_[q];
-  }
-
- private:
-  // Components are stored axis-major (scalar stores, scalar loads): an array of Vec would be
-  // written as scalars and read back as packed pairs, which defeats store forwarding.
-  Real dpos_[Dim][kSize];
-  Real grad_w_[kGrad ? Dim : 1][kGrad ? kSize : 1];
-  Real lap_w_[kLap ? kSize : 1];
-  template <class A>
-  static Vec<Dim> gather(const A& a, int q) {
-    Vec<Dim> v;
-    for (int d = 0; d < Dim; ++d) v[d] = a[d][q];
-    return v;
-  }
-};
-
-// A particle's stencil kept in separable form: per-axis weights, offsets and block
-// coordinates; nothing per node is stored. visit(fn) calls fn(node, w, rel) for every node
+// One particle's B-spline stencil (Order 2 or 3), kept in separable form: per-axis weights,
+// offsets and block coordinates; nothing per node is stored (per-node arrays cost
+// store-forwarding stalls when written and read back in the same loop). visit(fn) calls fn(node, w, rel) for every node
 // with w = N_i(x_p) and rel = x_i - x_p (world units), formed on the fly; visit_laplacian(fn)
 // calls fn(node, Laplacian of N_i at x_p). Node order: x fastest.
 template <int Dim, int Order>
-struct SeparableStencil {
+struct Stencil {
   static constexpr int kWidth = Order + 1;
   static constexpr int kSize = Dim == 2 ? kWidth * kWidth : kWidth * kWidth * kWidth;
   Real w1[Dim][kWidth], rel1[Dim][kWidth], dd1[Dim][kWidth];  // dd1: N'' in world units
 
-  SeparableStencil(const SparseGrid<Dim>& grid, const Vec<Dim>& x);
+  Stencil(const SparseGrid<Dim>& grid, const Vec<Dim>& x);
 
   template <class Fn>
   void visit(Fn&& fn) const {
@@ -231,65 +191,8 @@ inline void SparseGrid<Dim>::neighbourhood(const Vec<Dim>& xg, std::array<int, k
   }
 }
 
-template <int Dim, int Order, int kExtras>
-inline Stencil<Dim, Order, kExtras>::Stencil(const SparseGrid<Dim>& grid, const Vec<Dim>& x) {
-  using G = SparseGrid<Dim>;
-  const Real inv_dx = Real(1 / grid.dx());
-  const Vec<Dim> xg = (x - grid.origin()) * inv_dx;
-  std::array<int, G::kColours> ids;
-  IVec<Dim> home;
-  grid.neighbourhood(xg, &ids, &home);
-  // Per axis: which neighbour block (bit), the local offset inside it, weights.
-  int bit[Dim][kWidth], local[Dim][kWidth];
-  Real w1[Dim][kWidth], dw1[Dim][kWidth], ddw1[Dim][kWidth], rel[Dim][kWidth];
-  for (int d = 0; d < Dim; ++d) {
-    const BSpline1D<Order> s(xg[d]);
-    for (int k = 0; k < kWidth; ++k) {
-      const int gp = s.base + k + G::kPad - home[d];  // 0 .. 2 kBlock - 1
-      bit[d][k] = (gp >> G::kLogBlock) << d;
-      local[d][k] = (gp & (G::kBlock - 1)) << (G::kLogBlock * d);
-      w1[d][k] = s.w[k];
-      dw1[d][k] = s.dw[k] * inv_dx;
-      ddw1[d][k] = s.ddw[k] * inv_dx * inv_dx;
-      rel[d][k] = (Real(s.base + k) - xg[d]) * Real(grid.dx());
-    }
-  }
-  int q = 0;
-  if constexpr (Dim == 2) {
-    for (int j = 0; j < kWidth; ++j)
-      for (int i = 0; i < kWidth; ++i, ++q) {
-        node[q] = ids[bit[0][i] | bit[1][j]] * G::kNodesPerBlock + local[0][i] + local[1][j];
-        w[q] = w1[0][i] * w1[1][j];
-        dpos_[0][q] = rel[0][i], dpos_[1][q] = rel[1][j];
-        if constexpr (kGrad) {
-          grad_w_[0][q] = dw1[0][i] * w1[1][j];
-          grad_w_[1][q] = w1[0][i] * dw1[1][j];
-        }
-        if constexpr (kLap) lap_w_[q] = ddw1[0][i] * w1[1][j] + w1[0][i] * ddw1[1][j];
-      }
-  } else {
-    for (int k = 0; k < kWidth; ++k)
-      for (int j = 0; j < kWidth; ++j)
-        for (int i = 0; i < kWidth; ++i, ++q) {
-          node[q] = ids[bit[0][i] | bit[1][j] | bit[2][k]] * G::kNodesPerBlock + local[0][i] +
-                    local[1][j] + local[2][k];
-          w[q] = w1[0][i] * w1[1][j] * w1[2][k];
-          dpos_[0][q] = rel[0][i], dpos_[1][q] = rel[1][j], dpos_[2][q] = rel[2][k];
-          if constexpr (kGrad) {
-            grad_w_[0][q] = dw1[0][i] * w1[1][j] * w1[2][k];
-            grad_w_[1][q] = w1[0][i] * dw1[1][j] * w1[2][k];
-            grad_w_[2][q] = w1[0][i] * w1[1][j] * dw1[2][k];
-          }
-          if constexpr (kLap) {
-            lap_w_[q] = ddw1[0][i] * w1[1][j] * w1[2][k] + w1[0][i] * ddw1[1][j] * w1[2][k] +
-                        w1[0][i] * w1[1][j] * ddw1[2][k];
-          }
-        }
-  }
-}
-
 template <int Dim, int Order>
-inline SeparableStencil<Dim, Order>::SeparableStencil(const SparseGrid<Dim>& grid,
+inline Stencil<Dim, Order>::Stencil(const SparseGrid<Dim>& grid,
                                                       const Vec<Dim>& x) {
   using G = SparseGrid<Dim>;
   const Real inv_dx = Real(1 / grid.dx());

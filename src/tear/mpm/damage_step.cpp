@@ -105,7 +105,7 @@ void MpmSolver<Dim>::damage_explicit(Real dt) {
   grid_.zero_scalar_fields();
   for_active_particles_coloured(grid_, active, [&](uint32_t p) {
     const Real d = p_.damage[p];
-    SeparableStencil<Dim, kDamageOrder>(grid_, p_.x[p]).visit([&](int i, Real w, const Vec<Dim>&) {
+    Stencil<Dim, kDamageOrder>(grid_, p_.x[p]).visit([&](int i, Real w, const Vec<Dim>&) {
       grid_.scalar[i] += w * d;
       grid_.scalar_weight[i] += w;
     });
@@ -125,7 +125,7 @@ void MpmSolver<Dim>::damage_explicit(Real dt) {
       if (!ds.enabled) continue;
       Real lap = 0;
       if (active[b]) {
-        SeparableStencil<Dim, kDamageOrder>(grid_, p_.x[p]).visit_laplacian(
+        Stencil<Dim, kDamageOrder>(grid_, p_.x[p]).visit_laplacian(
             [&](int i, Real lap_w) { lap += lap_w * grid_.scalar[i]; });
       }
       const Real d = p_.damage[p];
@@ -164,7 +164,7 @@ void MpmSolver<Dim>::damage_implicit(Real dt) {
     const Real a = V * (1 + k * (D + 1)), cd = V * k * D, bl = V * k * l2;
     laplace_coef_[p] = bl * inv_m * inv_m;
     const Real lc = laplace_coef_[p];
-    SeparableStencil<Dim, kDamageOrder>(grid_, p_.x[p]).visit([&](int i, Real w,
+    Stencil<Dim, kDamageOrder>(grid_, p_.x[p]).visit([&](int i, Real w,
                                                                   const Vec<Dim>& rel) {
       f[kW][i] += w;
       f[kWd][i] += w * d;
@@ -193,7 +193,7 @@ void MpmSolver<Dim>::damage_implicit(Real dt) {
     tbb::parallel_for(size_t(0), nodes, [&](size_t i) { y[i] = f[kA][i] * x[i]; });
     for_active_particles_coloured(grid_, active, [&](uint32_t p) {
       if (!damage_[p_.material[p]].enabled) return;
-      const SeparableStencil<Dim, kDamageOrder> st(grid_, p_.x[p]);
+      const Stencil<Dim, kDamageOrder> st(grid_, p_.x[p]);
       Vec<Dim> g = Vec<Dim>::Zero();
       st.visit([&](int i, Real w, const Vec<Dim>& rel) { g += (w * x[i]) * rel; });
       g *= laplace_coef_[p];
@@ -214,7 +214,7 @@ void MpmSolver<Dim>::damage_implicit(Real dt) {
   for_active_particles(grid_, active, [&](uint32_t p) {
     if (!damage_[p_.material[p]].enabled) return;
     Real d = flip ? p_.damage[p] : Real(0);
-    SeparableStencil<Dim, kDamageOrder>(grid_, p_.x[p]).visit([&](int i, Real w, const Vec<Dim>&) {
+    Stencil<Dim, kDamageOrder>(grid_, p_.x[p]).visit([&](int i, Real w, const Vec<Dim>&) {
       d += w * (flip ? solution_[i] - dn[i] : solution_[i]);
     });
     p_.damage[p] = std::clamp(d, p_.damage[p], Real(1));

@@ -109,7 +109,7 @@ void MpmSolver<Dim>::p2g(Real dt) {
         const Real m = p_.mass[p];
         if (apic) affine += m * p_.C[p];
         const Vec<Dim> mv = m * p_.v[p];
-        SeparableStencil<Dim, kOrder>(grid_, p_.x[p]).visit([&](int node, Real w,
+        Stencil<Dim, kOrder>(grid_, p_.x[p]).visit([&](int node, Real w,
                                                                 const Vec<Dim>& rel) {
           grid_.mass[node] += w * m;
           // mv + affine (x_i - x_p), column by column: Eigen's product temporaries here
@@ -151,16 +151,15 @@ void MpmSolver<Dim>::g2p(Real dt) {
   const bool flip = scene_.transfer == Transfer::Flip;
   const Real ratio = Real(scene_.flip_ratio);
   tbb::parallel_for(size_t(0), p_.size(), [&](size_t p) {
-    const Stencil<Dim, kOrder> st(grid_, p_.x[p]);
     Vec<Dim> v = Vec<Dim>::Zero(), v_old = Vec<Dim>::Zero();
     Mat<Dim> B = Mat<Dim>::Zero();
-    for (int q = 0; q < st.kSize; ++q) {
-      const Vec<Dim>& vi = grid_.velocity[st.node[q]];
-      const Vec<Dim> wv = st.w[q] * vi;
+    Stencil<Dim, kOrder>(grid_, p_.x[p]).visit([&](int node, Real w,
+                                                            const Vec<Dim>& rel) {
+      const Vec<Dim> wv = w * grid_.velocity[node];
       v += wv;
-      for (int c = 0; c < Dim; ++c) B.col(c) += wv * st.dpos(q)[c];  // B += wv dpos^T
-      if (flip) v_old += st.w[q] * grid_.velocity_old[st.node[q]];
-    }
+      for (int c = 0; c < Dim; ++c) B.col(c) += wv * rel[c];  // B += wv (x_i - x_p)^T
+      if (flip) v_old += w * grid_.velocity_old[node];
+    });
     const Mat<Dim> C = B * inv_d;  // velocity gradient estimate (APIC B D^-1)
     p_.C[p] = C;
     p_.F[p] = (Mat<Dim>::Identity() + dt * C) * p_.F[p];
