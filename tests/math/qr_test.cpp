@@ -100,55 +100,10 @@ TEST(SignedSvd, RotationsAndNegativeLastValueForInversion) {
       EXPECT_LT(s[2], 0);
       ++inverted;
     }
-    const Mat<3> R = polar_rotation<3>(F);
-    EXPECT_NEAR(R.determinant(), 1, 1e-12);
+    EXPECT_NEAR(polar_rotation_svd<3>(F).determinant(), 1, 1e-12);
   }
   EXPECT_GT(inverted, 10);
 }
-
-// U diag(sigma) V^T with random rotations U, V: controlled singular values.
-template <int Dim>
-Mat<Dim> with_singular_values(std::mt19937_64& rng, const Vec<Dim>& sigma) {
-  auto rotation = [&]() {
-    Mat<Dim> U, V;
-    Vec<Dim> s;
-    signed_svd<Dim>(random_matrix<Dim>(rng), &U, &s, &V);
-    return U;
-  };
-  return rotation() * sigma.asDiagonal() * rotation().transpose();
-}
-
-template <int Dim>
-void check_polar_rotation() {
-  std::mt19937_64 rng(17);
-  std::uniform_real_distribution<double> u(-1, 1);
-  std::vector<Vec<Dim>> spectra;
-  for (double a : {1.0, 1.3, 3.0, 100.0})
-    for (double b : {1.0, 0.5, 1e-3, 1e-6, -0.2, -1e-3}) {
-      Vec<Dim> s = Vec<Dim>::Constant(Real(a));
-      s[Dim - 1] = Real(b);
-      spectra.push_back(s);
-    }
-  int checked = 0;
-  for (const Vec<Dim>& sigma : spectra)
-    for (int k = 0; k < 25; ++k) {
-      Vec<Dim> s = sigma;
-      for (int d = 0; d + 1 < Dim; ++d) s[d] *= Real(1 + 0.2 * u(rng));  // distinct values
-      const Mat<Dim> F = with_singular_values<Dim>(rng, s);
-      const Mat<Dim> R = polar_rotation<Dim>(F), ref = polar_rotation_svd<Dim>(F);
-      EXPECT_LT((R - ref).norm(), 1e-9) << "sigma " << s.transpose();
-      EXPECT_LT((R.transpose() * R - Mat<Dim>::Identity()).norm(), 1e-12);
-      EXPECT_NEAR(R.determinant(), 1, 1e-12);
-      ++checked;
-    }
-  EXPECT_EQ(checked, 24 * 25);
-  // A rotation is its own polar rotation.
-  const Mat<Dim> Q = with_singular_values<Dim>(rng, Vec<Dim>::Ones());
-  EXPECT_LT((polar_rotation<Dim>(Q) - Q).norm(), 1e-13);
-}
-
-TEST(Polar, FastRotationMatchesTheSvdReference2D) { check_polar_rotation<2>(); }
-TEST(Polar, FastRotationMatchesTheSvdReference3D) { check_polar_rotation<3>(); }
 
 }  // namespace
 }  // namespace tear

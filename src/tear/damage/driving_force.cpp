@@ -1,35 +1,85 @@
 #include "tear/damage/driving_force.h"
 
-#include "tear/math/svd.h"
-
-#include <Eigen/Eigenvalues>
+#include "tear/math/polar.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 namespace tear {
 
+// sigma+ (EQUATIONS.md §1) from the eigenvalues alone, through spectral projectors; no
+// eigenvectors.
+// 2D: eigenvalues m -+ r. When indefinite (l- < 0 < l+), sigma+ = l+ P+ with the projector
+// P+ = (sym - l- I) / (l+ - l-).
+// 3D: definite stresses return at once. The characteristic polynomial's coefficients (trace,
+// sum of principal 2x2 minors, determinant) all >= 0 mean no negative eigenvalue (Descartes'
+// rule; the roots are real); trace and determinant <= 0 with minors >= 0 mean no positive one.
+// Otherwise l_max > 0 > l_min, and the eigenvalues come from the trigonometric solution of the
+// cubic (as Eigen's computeDirect). If l_mid <= 0, sigma+ = l_max P_max; if l_mid >= 0,
+// sigma+ = sym - l_min P_min, with P_max = (sym - l_mid I)(sym - l_min I) /
+// ((l_max - l_mid)(l_max - l_min)) (P_min alike), written through the sum and product of the
+// two other eigenvalues (from the trace and the minors, exact even when those two coincide).
+// Both are well conditioned on their side of l_mid = 0: l_max / (l_max - l_mid) <= 1 when
+// l_mid <= 0. When l_mid is within its own error of 0 (round-off, or ~sqrt(eps) rho when it
+// is clustered with a neighbour), either form is right to that error; take the one whose
+// extreme eigenvalue is farther from 0, so that its projector stays well conditioned.
 template <int Dim>
 Mat<Dim> tensile_part(const Mat<Dim>& sym) {
-  // Shortcut for definite stresses (pure tension or compression): the characteristic
-  // polynomial's coefficients (trace, sum of principal 2x2 minors, determinant) all >= 0
-  // mean no negative eigenvalue (Descartes' rule; the roots are real); trace and determinant
-  // <= 0 with minors >= 0 mean no positive one.
-  const Real c2 = sym.trace(), c0 = sym.determinant();
-  Real c1 = 0;
   if constexpr (Dim == 2) {
-    c1 = c0;
+    const Real a = sym(0, 0), d = sym(1, 1), b = sym(1, 0);
+    const Real m = (a + d) / 2, h = (a - d) / 2;
+    const Real r = std::sqrt(h * h + b * b);
+    const Real lo = m - r, hi = m + r;
+    if (lo >= 0) return sym;
+    if (hi <= 0) return Mat<2>::Zero();
+    const Real k = hi / (2 * r);  // r > |m| >= 0 here
+    Mat<2> T;
+    T << k * (a - lo), k * b, k * b, k * (d - lo);
+    return T;
   } else {
-    c1 = sym(0, 0) * sym(1, 1) - sym(0, 1) * sym(1, 0) + sym(0, 0) * sym(2, 2) -
-         sym(0, 2) * sym(2, 0) + sym(1, 1) * sym(2, 2) - sym(1, 2) * sym(2, 1);
+    const Real s00 = sym(0, 0), s11 = sym(1, 1), s22 = sym(2, 2);
+    const Real a = sym(1, 0), b = sym(2, 0), c = sym(2, 1);
+    const Real m12 = s11 * s22 - c * c;
+    const Real c2 = s00 + s11 + s22;
+    const Real c1 = s00 * s11 - a * a + s00 * s22 - b * b + m12;
+    const Real c0 = s00 * m12 - a * (a * s22 - b * c) + b * (a * c - b * s11);
+    if (c1 >= 0) {
+      if (c2 >= 0 && c0 >= 0) return sym;
+      if (c2 <= 0 && c0 <= 0) return Mat<3>::Zero();
+    }
+    // Trigonometric roots: l = m + 2 rho cos(phi + 2 pi k / 3), rho^2 = |dev|^2 / 6.
+    const Real m = c2 * Real(1.0 / 3);
+    const Real d0 = s00 - m, d1 = s11 - m, d2 = s22 - m;
+    const Real rho2 = (d0 * d0 + d1 * d1 + d2 * d2 + 2 * (a * a + b * b + c * c)) * Real(1.0 / 6);
+    const Real det = d0 * d1 * d2 + 2 * a * b * c - d0 * c * c - d1 * b * b - d2 * a * a;
+    const Real rho = std::sqrt(rho2);  // > 0: indefinite
+    const Real phi =
+        std::acos(std::clamp(det / (2 * rho2 * rho), Real(-1), Real(1))) * Real(1.0 / 3);
+    const Real rc = rho * std::cos(phi), rs = std::sqrt(Real(3)) * rho * std::sin(phi);
+    const Real l_max = m + 2 * rc, l_mid = m - rc + rs, l_min = m - rc - rs;
+    // Error bound of l_mid: eps rho (1 + rho / gap), the gap to its nearest neighbour floored
+    // at sqrt(eps) rho (the accuracy of a double root of the cubic).
+    const Real eps = std::numeric_limits<Real>::epsilon();
+    const Real gap = std::max(std::min(l_max - l_mid, l_mid - l_min), std::sqrt(eps) * rho);
+    const Real tol = 16 * eps * rho * (rho + gap);
+    const bool keep_max = l_mid * gap < -tol ? true : (l_mid * gap > tol ? false : l_max >= -l_min);
+    const Real l = keep_max ? l_max : l_min;
+    const Real sum = c2 - l, prod = c1 - l * sum;  // of the two other eigenvalues
+    const Real k = l / (l * (l - sum) + prod);
+    // P = N / ((l - l_a)(l - l_b)) with N = sym^2 - sum sym + prod I (symmetric).
+    Mat<3> N;
+    N(0, 0) = s00 * s00 + a * a + b * b - sum * s00 + prod;
+    N(1, 1) = a * a + s11 * s11 + c * c - sum * s11 + prod;
+    N(2, 2) = b * b + c * c + s22 * s22 - sum * s22 + prod;
+    N(1, 0) = N(0, 1) = s00 * a + a * s11 + b * c - sum * a;
+    N(2, 0) = N(0, 2) = s00 * b + a * c + b * s22 - sum * b;
+    N(2, 1) = N(1, 2) = a * b + s11 * c + c * s22 - sum * c;
+    if (keep_max) return k * N;
+    Mat<3> T;
+    T << s00, a, b, a, s11, c, b, c, s22;
+    return T - k * N;
   }
-  if (c1 >= 0) {
-    if (c2 >= 0 && c0 >= 0) return sym;
-    if (c2 <= 0 && (Dim == 2 || c0 <= 0)) return Mat<Dim>::Zero();
-  }
-  Eigen::SelfAdjointEigenSolver<Mat<Dim>> eig;
-  eig.computeDirect(sym);
-  const Vec<Dim> positive = eig.eigenvalues().cwiseMax(Real(0));
-  return eig.eigenvectors() * positive.asDiagonal() * eig.eigenvectors().transpose();
 }
 
 template <int Dim>
@@ -51,13 +101,40 @@ Real driving_phi(const Mat<Dim>& cauchy, const Mat<Dim>& A, Real sigma_c) {
   return (A * s).cwiseProduct(s * A).sum() / (sigma_c * sigma_c);
 }
 
+// driving_phi(cauchy, structural_tensor(F, D, alpha), sigma_c) without forming A: with
+// A = I + sum_k alpha_k b_k b_k^T, b_k = R a_k, u_k = s b_k and s = sigma+ symmetric,
+// (A s) : (s A) = tr(s A s A)
+//               = |s|^2 + 2 sum_k alpha_k |u_k|^2 + sum_kl alpha_k alpha_l (b_k . u_l)^2.
 template <int Dim>
 Real particle_phi(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D,
                   const Real alpha[2], Real sigma_c) {
   const Real J = F.determinant();
   if (J <= 0) return 0;
-  const Mat<Dim> cauchy = first_piola<Dim>(m, F, D) * F.transpose() / J;
-  return driving_phi<Dim>(cauchy, structural_tensor<Dim>(F, D, alpha), sigma_c);
+  const Real inv_sc2 = 1 / (sigma_c * sigma_c);
+  const bool fibers = alpha[0] != 0 || alpha[1] != 0;
+  // The rotation first: it does not need the stress, so its latency overlaps first_piola's.
+  const Mat<Dim> R = fibers ? polar_rotation<Dim>(F) : Mat<Dim>::Identity();
+  const Mat<Dim> P = first_piola<Dim>(m, F, D);
+  Mat<Dim> cauchy;  // P F^T / J, symmetric: the lower triangle, mirrored
+  const Real inv_J = 1 / J;
+  for (int i = 0; i < Dim; ++i)
+    for (int j = 0; j <= i; ++j) cauchy(i, j) = cauchy(j, i) = inv_J * P.row(i).dot(F.row(j));
+  const Mat<Dim> s = tensile_part<Dim>(cauchy);
+  Real phi = s.squaredNorm();
+  if (fibers) {
+    Vec<Dim> b[2], u[2];
+    for (int k = 0; k < 2; ++k) {
+      b[k] = R * D.col(k);
+      u[k] = s * b[k];
+      phi += 2 * alpha[k] * u[k].squaredNorm();
+    }
+    for (int k = 0; k < 2; ++k)
+      for (int l = 0; l < 2; ++l) {
+        const Real bu = b[k].dot(u[l]);
+        phi += alpha[k] * alpha[l] * bu * bu;
+      }
+  }
+  return phi * inv_sc2;
 }
 
 template Mat<2> tensile_part<2>(const Mat<2>&);

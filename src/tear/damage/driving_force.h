@@ -12,7 +12,9 @@ inline Real degradation(Real d, Real residual) {
   return (1 - d) * (1 - d) * (1 - residual) + residual;
 }
 
-// Tensile part sigma+ = sum_a <sigma_a> n_a n_a^T of a symmetric matrix.
+// Tensile part sigma+ = sum_a <sigma_a> n_a n_a^T of a symmetric matrix (closed form, no
+// eigenvectors). Error ~eps |sym| in general; in 3D with two eigenvalues near 0 it grows
+// towards ~sqrt(eps) |sym|, as for any solution through the characteristic cubic.
 template <int Dim>
 Mat<Dim> tensile_part(const Mat<Dim>& sym);
 

@@ -1,5 +1,6 @@
 #include "tear/materials/material.h"
 
+#include "tear/math/polar.h"
 #include "tear/math/qr.h"
 #include "tear/math/svd.h"
 
