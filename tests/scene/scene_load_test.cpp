@@ -99,6 +99,20 @@ TEST(SceneLoad, RichSceneIsParsed) {
   EXPECT_DOUBLE_EQ(s.flip_ratio, 0.9);
 }
 
+// Without damage.solver, a scene whose materials can be damaged gets the implicit solver (so a
+// damage block is never silently ignored); one without damageable materials gets none.
+TEST(SceneLoad, DamageSolverDefaultFollowsTheMaterials) {
+  json doc = rich_scene_3d();
+  doc["damage"].erase("solver");
+  Scene s = parse_scene(doc, "rich.json");
+  EXPECT_EQ(s.damage.solver, DamageSolver::Implicit);
+  EXPECT_EQ(s.resolved["damage"]["solver"], "implicit");
+  doc["materials"]["meat"].erase("damage");
+  EXPECT_EQ(parse_scene(doc, "rich.json").damage.solver, DamageSolver::None);
+  doc["materials"]["meat"]["damage"] = nullptr;
+  EXPECT_EQ(parse_scene(doc, "rich.json").damage.solver, DamageSolver::None);
+}
+
 // The example of SCENE_FORMAT.md and of docs/scene_reference.md load as written.
 TEST(SceneLoad, DocumentedExamplesLoad) {
   Scene a = parse_scene(json::parse(R"({

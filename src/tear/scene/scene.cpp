@@ -79,7 +79,12 @@ json parse_damage(const Reader& r, const json& doc, Scene* s) {
   r.object(*d, "damage",
            {"solver", "l0", "zeta", "transfer", "cg_tolerance", "cg_max_iterations"});
   DamageSolverSpec& ds = s->damage;
-  ds.solver = DamageSolver(r.choice(*d, "damage", "solver", {"none", "explicit", "implicit"}, 0));
+  // Default: the implicit solver (stable for any eta) when some material can be damaged, so a
+  // material's damage block is never silently ignored; "none" otherwise.
+  bool any_damage = false;
+  for (const MaterialSpec& m : s->materials) any_damage = any_damage || m.damage.enabled;
+  ds.solver = DamageSolver(
+      r.choice(*d, "damage", "solver", {"none", "explicit", "implicit"}, any_damage ? 2 : 0));
   ds.l0 = r.number(*d, "damage", "l0", 0.5 * s->dx);
   r.positive(ds.l0, "damage.l0");
   ds.zeta = r.number(*d, "damage", "zeta", 1.0);
@@ -247,8 +252,8 @@ Scene parse_scene(const json& doc, const std::string& file) {
   if (r.choice(doc, "", "integrator", {"explicit", "implicit"}, 0) == 1)
     r.fail("integrator", "\"implicit\": not implemented yet");
   out["integrator"] = "explicit";
-  out["damage"] = parse_damage(r, doc, &s);
   out["materials"] = parse_materials(r, doc, &s);
+  out["damage"] = parse_damage(r, doc, &s);  // after the materials: its default depends on them
   out["objects"] = parse_objects(r, doc, &s);
   out["boundaries"] = parse_boundaries(r, doc, &s);
   out["output"] = parse_output(r, doc, &s);
