@@ -100,7 +100,7 @@ TEST_F(Cli, RunWritesTheDocumentedOutputs) {
   EXPECT_EQ(resolved["transfer"], "apic");
   EXPECT_EQ(resolved["time"]["cfl"], 0.4);
   // Frames: the documented columns, rows sorted by id.
-  const PlyTable t = decode_ply(read_file(path("run/frames/00004.ply")));
+  const PointTable t = decode_ply(read_file(path("run/frames/00004.ply")));
   for (const char* c :
        {"id", "x", "y", "z", "vx", "vy", "vz", "damage", "material", "fx", "fy", "fz"})
     EXPECT_TRUE(t.has(c)) << c;

@@ -29,13 +29,13 @@ class TempDir {
   fs::path path_;
 };
 
-PlyTable sample_table() {
-  PlyTable t;
+PointTable sample_table() {
+  PointTable t;
   t.count = 3;
-  t.add("id", PlyType::Int32, {0, -7, 2147483647});
-  t.add("x", PlyType::Float32, {0.1, -2.5, 1e10});
-  t.add("m", PlyType::UInt8, {0, 255, 17});
-  t.add("d", PlyType::Float64, {0.1, -1e-300, 3.25});
+  t.add("id", ColumnType::Int32, {0, -7, 2147483647});
+  t.add("x", ColumnType::Float32, {0.1, -2.5, 1e10});
+  t.add("m", ColumnType::UInt8, {0, 255, 17});
+  t.add("d", ColumnType::Float64, {0.1, -1e-300, 3.25});
   return t;
 }
 
@@ -49,7 +49,7 @@ TEST(Ply, HeaderIsExact) {
 }
 
 TEST(Ply, RoundTripKeepsEveryType) {
-  const PlyTable t = decode_ply(encode_ply(sample_table()));
+  const PointTable t = decode_ply(encode_ply(sample_table()));
   ASSERT_EQ(t.count, 3u);
   EXPECT_EQ(t.names, (std::vector<std::string>{"id", "x", "m", "d"}));
   EXPECT_EQ(t.column("id"), (std::vector<double>{0, -7, 2147483647}));
@@ -57,14 +57,14 @@ TEST(Ply, RoundTripKeepsEveryType) {
   EXPECT_EQ(t.column("x")[2], double(1e10f));
   EXPECT_EQ(t.column("m"), (std::vector<double>{0, 255, 17}));
   EXPECT_EQ(t.column("d"), (std::vector<double>{0.1, -1e-300, 3.25}));
-  EXPECT_EQ(t.types[2], PlyType::UInt8);
+  EXPECT_EQ(t.types[2], ColumnType::UInt8);
 }
 
 TEST(Ply, ReadsAscii) {
   const std::string text =
       "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty int32 n\n"
       "element face 0\nproperty list uchar int vertex_indices\nend_header\n1.5 3\n-2 4\n";
-  const PlyTable t = decode_ply(text);
+  const PointTable t = decode_ply(text);
   EXPECT_EQ(t.column("x"), (std::vector<double>{1.5, -2}));
   EXPECT_EQ(t.column("n"), (std::vector<double>{3, 4}));
 }
@@ -94,9 +94,9 @@ TEST(Ply, RejectsMalformedInput) {
                 .find("unknown property type"),
             std::string::npos);
   EXPECT_THROW(sample_table().column("nope"), std::runtime_error);
-  PlyTable t;
+  PointTable t;
   t.count = 2;
-  EXPECT_THROW(t.add("x", PlyType::Float32, {1}), std::runtime_error);
+  EXPECT_THROW(t.add("x", ColumnType::Float32, {1}), std::runtime_error);
 }
 
 TEST(AtomicFile, ReplacesContentAndLeavesNoTemporary) {

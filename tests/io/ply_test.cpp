@@ -31,13 +31,13 @@ void append_le(std::string* out, T value) {
 }
 
 TEST(Ply, FrameHeaderIsExact) {
-  PlyTable t;
+  PointTable t;
   t.count = 2;
-  t.add("id", PlyType::Int32, {1, 0});
+  t.add("id", ColumnType::Int32, {1, 0});
   for (const char* name : {"x", "y", "z", "vx", "vy", "vz", "damage"})
-    t.add(name, PlyType::Float32, {0.5, -0.5});
-  t.add("material", PlyType::UInt8, {0, 1});
-  for (const char* name : {"fx", "fy", "fz"}) t.add(name, PlyType::Float32, {1, 0});
+    t.add(name, ColumnType::Float32, {0.5, -0.5});
+  t.add("material", ColumnType::UInt8, {0, 1});
+  for (const char* name : {"fx", "fy", "fz"}) t.add(name, ColumnType::Float32, {1, 0});
   const std::string header =
       "ply\nformat binary_little_endian 1.0\ncomment written by tear\nelement vertex 2\n"
       "property int id\nproperty float x\nproperty float y\nproperty float z\n"
@@ -50,12 +50,12 @@ TEST(Ply, FrameHeaderIsExact) {
 }
 
 TEST(Ply, EncodesRowsLittleEndianVertexMajor) {
-  PlyTable t;
+  PointTable t;
   t.count = 2;
-  t.add("id", PlyType::Int32, {1, -2});
-  t.add("x", PlyType::Float32, {1.0, -2.0});
-  t.add("m", PlyType::UInt8, {200, 3});
-  t.add("d", PlyType::Float64, {2.0, 0.0});
+  t.add("id", ColumnType::Int32, {1, -2});
+  t.add("x", ColumnType::Float32, {1.0, -2.0});
+  t.add("m", ColumnType::UInt8, {200, 3});
+  t.add("d", ColumnType::Float64, {2.0, 0.0});
   const std::string bytes = encode_ply(t);
   const std::string body = bytes.substr(bytes.find("end_header\n") + 11);
   const unsigned char expected[] = {
@@ -77,13 +77,13 @@ TEST(Ply, RoundTripIsExactUpToFloat32Rounding) {
     m[i] = double(i % 256);
     d[i] = std::ldexp(1.0 / 3.0, int(i % 200) - 100);
   }
-  PlyTable t;
+  PointTable t;
   t.count = n;
-  t.add("id", PlyType::Int32, id);
-  t.add("x", PlyType::Float32, x);
-  t.add("m", PlyType::UInt8, m);
-  t.add("d", PlyType::Float64, d);
-  const PlyTable r = decode_ply(encode_ply(t));
+  t.add("id", ColumnType::Int32, id);
+  t.add("x", ColumnType::Float32, x);
+  t.add("m", ColumnType::UInt8, m);
+  t.add("d", ColumnType::Float64, d);
+  const PointTable r = decode_ply(encode_ply(t));
   ASSERT_EQ(r.count, n);
   EXPECT_EQ(r.names, t.names);
   EXPECT_EQ(r.types, t.types);
@@ -95,9 +95,9 @@ TEST(Ply, RoundTripIsExactUpToFloat32Rounding) {
 }
 
 TEST(Ply, EmptyTableRoundTrips) {
-  PlyTable t;
-  t.add("id", PlyType::Int32, {});
-  const PlyTable r = decode_ply(encode_ply(t));
+  PointTable t;
+  t.add("id", ColumnType::Int32, {});
+  const PointTable r = decode_ply(encode_ply(t));
   EXPECT_EQ(r.count, 0u);
   EXPECT_EQ(r.names, std::vector<std::string>{"id"});
   EXPECT_TRUE(r.column("id").empty());
@@ -120,17 +120,17 @@ TEST(Ply, DecodesEveryScalarTypeName) {
     append_le<uint32_t>(&bytes, 4294967295u);
     append_le<float>(&bytes, 0.1f);
     append_le<double>(&bytes, 0.1);
-    const PlyTable t = decode_ply(bytes);
+    const PointTable t = decode_ply(bytes);
     ASSERT_EQ(t.count, 1u) << names[0];
     const double expected[] = {-128,        255,        -32768,       65535,
                                -2147483648.0, 4294967295.0, double(0.1f), 0.1};
     for (int k = 0; k < 8; ++k)
       EXPECT_EQ(t.column("p" + std::to_string(k))[0], expected[k]) << names[k];
-    EXPECT_EQ(t.types[1], PlyType::UInt8);
-    EXPECT_EQ(t.types[4], PlyType::Int32);
-    EXPECT_EQ(t.types[5], PlyType::Float64);  // uint32 beyond 2^31 survives re-encoding
-    EXPECT_EQ(t.types[6], PlyType::Float32);
-    EXPECT_EQ(t.types[7], PlyType::Float64);
+    EXPECT_EQ(t.types[1], ColumnType::UInt8);
+    EXPECT_EQ(t.types[4], ColumnType::Int32);
+    EXPECT_EQ(t.types[5], ColumnType::Float64);  // uint32 beyond 2^31 survives re-encoding
+    EXPECT_EQ(t.types[6], ColumnType::Float32);
+    EXPECT_EQ(t.types[7], ColumnType::Float64);
   }
 }
 
@@ -140,7 +140,7 @@ TEST(Ply, ReadsAsciiWithCrlfCommentsAndEmptyElements) {
       "obj_info made by hand\r\nelement vertex 3\r\nproperty double x\r\nproperty uchar m\r\n"
       "element face 0\r\nproperty list uchar int vertex_indices\r\nend_header\r\n"
       "1.5 7\r\n-2e-3 0\r\n  1e300   255  \r\n";
-  const PlyTable t = decode_ply(text);
+  const PointTable t = decode_ply(text);
   ASSERT_EQ(t.count, 3u);
   EXPECT_EQ(t.column("x"), (std::vector<double>{1.5, -2e-3, 1e300}));
   EXPECT_EQ(t.column("m"), (std::vector<double>{7, 0, 255}));
@@ -201,9 +201,9 @@ TEST(Ply, RejectsCorruptInputWithTheReason) {
 }
 
 TEST(Ply, ColumnOfMissingNameThrowsNamingIt) {
-  PlyTable t;
+  PointTable t;
   t.count = 1;
-  t.add("damage", PlyType::Float32, {0.25});
+  t.add("damage", ColumnType::Float32, {0.25});
   EXPECT_TRUE(t.has("damage"));
   EXPECT_FALSE(t.has("Damage"));
   EXPECT_EQ(t.column("damage"), std::vector<double>{0.25});
@@ -211,16 +211,16 @@ TEST(Ply, ColumnOfMissingNameThrowsNamingIt) {
     t.column("fiber");
     FAIL() << "expected an error";
   } catch (const std::runtime_error& e) {
-    EXPECT_STREQ(e.what(), "PLY has no column 'fiber'");
+    EXPECT_STREQ(e.what(), "no column 'fiber'");
   }
-  EXPECT_THROW(t.add("damage", PlyType::Float64, {1}), std::runtime_error);
+  EXPECT_THROW(t.add("damage", ColumnType::Float64, {1}), std::runtime_error);
   EXPECT_EQ(t.names.size(), 1u);
 }
 
 TEST(Ply, EncodeRejectsColumnsOfTheWrongLength) {
-  PlyTable t;
+  PointTable t;
   t.count = 3;
-  t.add("x", PlyType::Float32, {1, 2, 3});
+  t.add("x", ColumnType::Float32, {1, 2, 3});
   t.columns[0].pop_back();  // bypassing add()
   EXPECT_THROW(encode_ply(t), std::runtime_error);
   t.columns[0].push_back(3);

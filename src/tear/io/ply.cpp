@@ -10,26 +10,6 @@
 
 namespace tear {
 
-void PlyTable::add(const std::string& name, PlyType type, std::vector<double> values) {
-  if (values.size() != count)
-    throw std::runtime_error("PLY column '" + name + "' has " + std::to_string(values.size()) +
-                             " values, the table " + std::to_string(count));
-  if (has(name)) throw std::runtime_error("PLY column '" + name + "' added twice");
-  names.push_back(name);
-  types.push_back(type);
-  columns.push_back(std::move(values));
-}
-
-bool PlyTable::has(const std::string& name) const {
-  return std::find(names.begin(), names.end(), name) != names.end();
-}
-
-const std::vector<double>& PlyTable::column(const std::string& name) const {
-  for (size_t i = 0; i < names.size(); ++i)
-    if (names[i] == name) return columns[i];
-  throw std::runtime_error("PLY has no column '" + name + "'");
-}
-
 namespace {
 
 // The files are little-endian whatever the host; on a little-endian host these compile to
@@ -59,12 +39,12 @@ struct TypeInfo {
   size_t size;
 };
 
-TypeInfo info(PlyType t) {
+TypeInfo info(ColumnType t) {
   switch (t) {
-    case PlyType::Int32: return {"int", 4};
-    case PlyType::UInt8: return {"uchar", 1};
-    case PlyType::Float32: return {"float", 4};
-    case PlyType::Float64: return {"double", 8};
+    case ColumnType::Int32: return {"int", 4};
+    case ColumnType::UInt8: return {"uchar", 1};
+    case ColumnType::Float32: return {"float", 4};
+    case ColumnType::Float64: return {"double", 8};
   }
   return {"?", 0};
 }
@@ -106,15 +86,15 @@ double read_scalar(Scalar s, const char* p) {
   return 0;
 }
 
-// The nearest PlyType that holds every value of `s` exactly (uint32 and the 8/16-bit signed
+// The nearest ColumnType that holds every value of `s` exactly (uint32 and the 8/16-bit signed
 // types do not fit uchar, so they become int32, and uint32 beyond 2^31 becomes double).
-PlyType table_type(Scalar s) {
+ColumnType table_type(Scalar s) {
   switch (s) {
-    case Scalar::U8: return PlyType::UInt8;
-    case Scalar::U32: return PlyType::Float64;
-    case Scalar::F32: return PlyType::Float32;
-    case Scalar::F64: return PlyType::Float64;
-    default: return PlyType::Int32;
+    case Scalar::U8: return ColumnType::UInt8;
+    case Scalar::U32: return ColumnType::Float64;
+    case Scalar::F32: return ColumnType::Float32;
+    case Scalar::F64: return ColumnType::Float64;
+    default: return ColumnType::Int32;
   }
 }
 
@@ -131,7 +111,7 @@ bool parse_count(const std::string& word, size_t* n) {
 
 }  // namespace
 
-std::string encode_ply(const PlyTable& t) {
+std::string encode_ply(const PointTable& t) {
   if (t.types.size() != t.names.size() || t.columns.size() != t.names.size())
     throw std::runtime_error("PLY table has " + std::to_string(t.names.size()) + " names, " +
                              std::to_string(t.types.size()) + " types and " +
@@ -157,22 +137,22 @@ std::string encode_ply(const PlyTable& t) {
     for (size_t c = 0; c < t.names.size(); ++c) {
       const double v = t.columns[c][i];
       switch (t.types[c]) {
-        case PlyType::Int32: store_le(p, int32_t(v)), p += 4; break;
-        case PlyType::UInt8: store_le(p, uint8_t(v)), p += 1; break;
-        case PlyType::Float32: store_le(p, float(v)), p += 4; break;
-        case PlyType::Float64: store_le(p, v), p += 8; break;
+        case ColumnType::Int32: store_le(p, int32_t(v)), p += 4; break;
+        case ColumnType::UInt8: store_le(p, uint8_t(v)), p += 1; break;
+        case ColumnType::Float32: store_le(p, float(v)), p += 4; break;
+        case ColumnType::Float64: store_le(p, v), p += 8; break;
       }
     }
   }
   return out;
 }
 
-PlyTable decode_ply(const std::string& bytes) {
+PointTable decode_ply(const std::string& bytes) {
   if (bytes.compare(0, 4, "ply\n") != 0 && bytes.compare(0, 5, "ply\r\n") != 0)
     fail("does not start with 'ply'");
   size_t pos = bytes.find('\n') + 1;
 
-  PlyTable t;
+  PointTable t;
   std::string format;
   std::vector<Scalar> scalars;
   std::vector<size_t> sizes;

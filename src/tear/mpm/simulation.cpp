@@ -1,7 +1,6 @@
 #include "tear/mpm/simulation.h"
 
 #include "tear/io/binary.h"
-#include "tear/io/ply.h"
 #include "tear/math/parallel.h"
 #include "tear/mpm/solver.h"
 
@@ -126,31 +125,31 @@ class MpmSimulation final : public Simulation {
     return s;
   }
 
-  std::string encode_ply() const override {
+  PointTable frame_table() const override {
     const Particles<Dim>& p = solver_.particles();
     const size_t n = p.size();
     // Rows in id order, so frame files compare row by row across frames and runs.
     std::vector<uint32_t> row(n);
     for (size_t i = 0; i < n; ++i) row[p.id[i]] = uint32_t(i);
-    PlyTable t;
+    PointTable t;
     t.count = n;
     auto column = [&](auto&& f) {
       std::vector<double> c(n);
       for (size_t k = 0; k < n; ++k) c[k] = double(f(row[k]));
       return c;
     };
-    t.add("id", PlyType::Int32, column([&](size_t i) { return p.id[i]; }));
+    t.add("id", ColumnType::Int32, column([&](size_t i) { return p.id[i]; }));
     const char* xs[3] = {"x", "y", "z"};
     const char* vs[3] = {"vx", "vy", "vz"};
     const char* fs[3] = {"fx", "fy", "fz"};
     for (int d = 0; d < 3; ++d) {
-      t.add(xs[d], PlyType::Float32, column([&](size_t i) { return d < Dim ? p.x[i][d] : 0; }));
+      t.add(xs[d], ColumnType::Float32, column([&](size_t i) { return d < Dim ? p.x[i][d] : 0; }));
     }
     for (int d = 0; d < 3; ++d) {
-      t.add(vs[d], PlyType::Float32, column([&](size_t i) { return d < Dim ? p.v[i][d] : 0; }));
+      t.add(vs[d], ColumnType::Float32, column([&](size_t i) { return d < Dim ? p.v[i][d] : 0; }));
     }
-    t.add("damage", PlyType::Float32, column([&](size_t i) { return p.damage[i]; }));
-    t.add("material", PlyType::UInt8, column([&](size_t i) { return p.material[i]; }));
+    t.add("damage", ColumnType::Float32, column([&](size_t i) { return p.damage[i]; }));
+    t.add("material", ColumnType::UInt8, column([&](size_t i) { return p.material[i]; }));
     // World-space fiber direction: the deformed primary fiber F a1, normalised.
     std::vector<Vec<Dim>> fiber(n);
     for (size_t i = 0; i < n; ++i) {
@@ -159,9 +158,9 @@ class MpmSimulation final : public Simulation {
       fiber[i] = len > 0 ? Vec<Dim>(f / len) : Vec<Dim>(p.fiber[i].col(0));
     }
     for (int d = 0; d < 3; ++d) {
-      t.add(fs[d], PlyType::Float32, column([&](size_t i) { return d < Dim ? fiber[i][d] : 0; }));
+      t.add(fs[d], ColumnType::Float32, column([&](size_t i) { return d < Dim ? fiber[i][d] : 0; }));
     }
-    return tear::encode_ply(t);
+    return t;
   }
 
   std::string encode_checkpoint() const override {

@@ -3,6 +3,8 @@
 // Consumes the plain scene description (scene/scene.h) but never parses files.
 #pragma once
 
+#include "tear/io/point_table.h"
+
 #include "tear/particles/particles.h"
 #include "tear/scene/scene.h"
 
@@ -59,8 +61,9 @@ class Simulation {
   // Statistics of the current state; step figures are those since the last call.
   virtual FrameStats collect_stats() = 0;
   virtual const PhaseTimes& phase_times() const = 0;
-  // Binary little-endian PLY of the current particles (ARCHITECTURE.md "Outputs").
-  virtual std::string encode_ply() const = 0;
+  // The current particles as the frame files' columns (ARCHITECTURE.md "Outputs"), rows in id
+  // order; io/frames.h encodes it in each output format.
+  virtual PointTable frame_table() const = 0;
   // Bytes of memory now held by particles and grid.
   virtual size_t memory_bytes() const = 0;
   // Restartable state: particles in their current order, time, frame and step counters.

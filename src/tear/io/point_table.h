@@ -1,0 +1,29 @@
+// io/: the format-neutral table of per-point columns that every point format
+// (PLY, BGEO, VTU) encodes and decodes, and that mesh and render read frames
+// into.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace tear {
+
+enum class ColumnType { Int32, UInt8, Float32, Float64 };
+
+// A table of per-point columns. Values are held as double in memory and
+// converted to the column's declared type when encoded.
+struct PointTable {
+  size_t count = 0;
+  std::vector<std::string> names;
+  std::vector<ColumnType> types;
+  std::vector<std::vector<double>> columns;
+
+  // Append a column; `values.size()` must equal `count`.
+  void add(const std::string &name, ColumnType type,
+           std::vector<double> values);
+  bool has(const std::string &name) const;
+  // Throws std::runtime_error if absent.
+  const std::vector<double> &column(const std::string &name) const;
+};
+
+} // namespace tear
