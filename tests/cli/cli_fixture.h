@@ -3,37 +3,33 @@
 // and stderr.
 #pragma once
 
-#include "tear/io/atomic_file.h"
-
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
+#include <sys/wait.h>
 
 #include <cstdlib>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include <sys/wait.h>
+#include "tear/io/atomic_file.h"
 
 namespace tear {
 
 class Cli : public ::testing::Test {
-protected:
+ protected:
   using json = nlohmann::json;
 
   void SetUp() override {
     std::random_device rd;
-    dir_ = std::filesystem::temp_directory_path() /
-           ("tear_cli_test_" + std::to_string(rd()));
+    dir_ = std::filesystem::temp_directory_path() / ("tear_cli_test_" + std::to_string(rd()));
     std::filesystem::create_directories(dir_);
   }
   void TearDown() override { std::filesystem::remove_all(dir_); }
 
-  std::string path(const std::string &name) const {
-    return (dir_ / name).string();
-  }
+  std::string path(const std::string &name) const { return (dir_ / name).string(); }
 
   // A small 2D scene: an anisotropic disk with some spin falling onto a sticky
   // floor, and a moving collider, so every part of the step runs.
@@ -58,8 +54,7 @@ protected:
     })");
   }
 
-  std::string write_scene(const json &j,
-                          const std::string &name = "scene.json") const {
+  std::string write_scene(const json &j, const std::string &name = "scene.json") const {
     write_file_atomic(path(name), j.dump(2));
     return path(name);
   }
@@ -68,8 +63,7 @@ protected:
   // err_.
   int tear(const std::string &args) {
     const std::string out = path("stdout.txt"), err = path("stderr.txt");
-    const std::string cmd =
-        std::string(TEAR_CLI) + " " + args + " > " + out + " 2> " + err;
+    const std::string cmd = std::string(TEAR_CLI) + " " + args + " > " + out + " 2> " + err;
     const int status = std::system(cmd.c_str());
     out_ = read_file(out);
     err_ = read_file(err);
@@ -87,8 +81,7 @@ protected:
     std::vector<json> lines;
     std::istringstream in(read_file(run + "/stats.jsonl"));
     std::string line;
-    while (std::getline(in, line))
-      lines.push_back(json::parse(line));
+    while (std::getline(in, line)) lines.push_back(json::parse(line));
     return lines;
   }
 
@@ -96,4 +89,4 @@ protected:
   std::string out_, err_;
 };
 
-} // namespace tear
+}  // namespace tear

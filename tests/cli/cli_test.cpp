@@ -1,5 +1,4 @@
-// End-to-end tests of the `tear` executable: outputs, determinism, resume, bad
-// input.
+// End-to-end tests of the `tear` executable: outputs, determinism, resume, bad input.
 #include "cli_fixture.h"
 #include "tear/io/atomic_file.h"
 #include "tear/io/ply.h"
@@ -24,12 +23,10 @@ TEST_F(Cli, RunWritesTheDocumentedOutputs) {
   const std::string s = write_scene(scene());
   ASSERT_EQ(tear("run " + s + " -o " + path("run") + " -q"), 0) << err_;
   EXPECT_NE(out_.find("wrote 4 frames"), std::string::npos) << out_;
-  EXPECT_EQ(err_, ""); // --quiet: no progress
+  EXPECT_EQ(err_, "");  // --quiet: no progress
   EXPECT_EQ(count_frames(path("run")), 5);
   for (int f = 0; f <= 4; ++f)
-    EXPECT_TRUE(
-        fs::exists(path("run/frames/0000" + std::to_string(f) + ".ply")))
-        << f;
+    EXPECT_TRUE(fs::exists(path("run/frames/0000" + std::to_string(f) + ".ply"))) << f;
   EXPECT_TRUE(fs::exists(path("run/checkpoints/latest.bin")));
   // scene.json is the resolved scene: defaults filled in.
   const json resolved = json::parse(read_file(path("run/scene.json")));
@@ -37,12 +34,11 @@ TEST_F(Cli, RunWritesTheDocumentedOutputs) {
   EXPECT_EQ(resolved["time"]["cfl"], 0.4);
   // Frames: the documented columns, rows sorted by id.
   const PointTable t = decode_ply(read_file(path("run/frames/00004.ply")));
-  for (const char *c : {"id", "x", "y", "z", "vx", "vy", "vz", "damage",
-                        "material", "fx", "fy", "fz"})
+  for (const char* c :
+       {"id", "x", "y", "z", "vx", "vy", "vz", "damage", "material", "fx", "fy", "fz"})
     EXPECT_TRUE(t.has(c)) << c;
   ASSERT_GT(t.count, 200u);
-  for (size_t i = 0; i < t.count; ++i)
-    ASSERT_EQ(t.column("id")[i], double(i));
+  for (size_t i = 0; i < t.count; ++i) ASSERT_EQ(t.column("id")[i], double(i));
   EXPECT_EQ(t.column("z"), std::vector<double>(t.count, 0.0));
 }
 
@@ -52,82 +48,63 @@ TEST_F(Cli, StatsHaveOneLinePerFrameWithTheDocumentedKeys) {
   const std::vector<json> lines = stats(path("run"));
   ASSERT_EQ(lines.size(), 5u);
   for (size_t f = 0; f < lines.size(); ++f) {
-    for (const char *k :
-         {"frame", "time", "steps", "dt_min", "dt_max", "particles", "mass",
-          "momentum", "angular_momentum", "kinetic_energy", "elastic_energy",
-          "max_damage", "mean_damage", "damaged_fraction", "wall_s"})
+    for (const char* k : {"frame", "time", "steps", "dt_min", "dt_max", "particles", "mass",
+                          "momentum", "angular_momentum", "kinetic_energy", "elastic_energy",
+                          "max_damage", "mean_damage", "damaged_fraction", "wall_s"})
       EXPECT_TRUE(lines[f].contains(k)) << k;
     EXPECT_EQ(lines[f]["frame"], int(f));
     EXPECT_EQ(lines[f]["particles"], lines[0]["particles"]);
-    EXPECT_EQ(lines[f]["mass"],
-              lines[0]["mass"]); // exactly: particles carry fixed mass
+    EXPECT_EQ(lines[f]["mass"], lines[0]["mass"]);  // exactly: particles carry fixed mass
     EXPECT_EQ(lines[f]["momentum"].size(), 3u);
     EXPECT_EQ(lines[f]["angular_momentum"].size(), 3u);
   }
   EXPECT_GT(lines[0]["mass"].get<double>(), 0);
-  EXPECT_NEAR(lines[4]["time"].get<double>(), 0.08,
-              1e-15); // steps land on frame times
+  EXPECT_NEAR(lines[4]["time"].get<double>(), 0.08, 1e-15);  // steps land on frame times
   EXPECT_GT(lines[4]["steps"].get<int>(), 0);
 }
 
 TEST_F(Cli, ProgressGoesToStderrAndTheSummaryToStdout) {
   const std::string s = write_scene(scene());
   ASSERT_EQ(tear("run " + s + " -o " + path("run")), 0) << err_;
-  // Not a terminal: plain lines, no carriage returns; the last one reports the
-  // last frame.
-  EXPECT_NE(err_.find("frame 4/4  t=0.080s  steps/s "), std::string::npos)
-      << err_;
+  // Not a terminal: plain lines, no carriage returns; the last one reports the last frame.
+  EXPECT_NE(err_.find("frame 4/4  t=0.080s  steps/s "), std::string::npos) << err_;
   EXPECT_NE(err_.find("ETA"), std::string::npos) << err_;
   EXPECT_EQ(err_.find('\r'), std::string::npos) << err_;
   EXPECT_EQ(out_.find("frame 4/4"), std::string::npos) << out_;
   EXPECT_NE(out_.find("wrote 4 frames ("), std::string::npos) << out_;
-  EXPECT_NE(out_.find(" to " + path("run") + " in "), std::string::npos)
-      << out_;
+  EXPECT_NE(out_.find(" to " + path("run") + " in "), std::string::npos) << out_;
 }
 
 TEST_F(Cli, OutputIsBitIdenticalForOneAndTwoThreads) {
   const std::string s = write_scene(scene());
-  ASSERT_EQ(tear("run " + s + " -o " + path("t1") + " -q --threads 1"), 0)
-      << err_;
-  ASSERT_EQ(tear("run " + s + " -o " + path("t2") + " -q --threads 2"), 0)
-      << err_;
-  ASSERT_EQ(tear("run " + s + " -o " + path("t2b") + " -q --threads 2"), 0)
-      << err_;
-  ASSERT_EQ(tear("run " + s + " -o " + path("t0") + " -q --threads 0"), 0)
-      << err_;
+  ASSERT_EQ(tear("run " + s + " -o " + path("t1") + " -q --threads 1"), 0) << err_;
+  ASSERT_EQ(tear("run " + s + " -o " + path("t2") + " -q --threads 2"), 0) << err_;
+  ASSERT_EQ(tear("run " + s + " -o " + path("t2b") + " -q --threads 2"), 0) << err_;
+  ASSERT_EQ(tear("run " + s + " -o " + path("t0") + " -q --threads 0"), 0) << err_;
   for (int f = 0; f <= 4; ++f) {
     const std::string name = "/frames/0000" + std::to_string(f) + ".ply";
-    EXPECT_EQ(read_file(path("t1") + name), read_file(path("t2") + name))
-        << name;
-    EXPECT_EQ(read_file(path("t2") + name), read_file(path("t2b") + name))
-        << name;
-    EXPECT_EQ(read_file(path("t1") + name), read_file(path("t0") + name))
-        << name;
+    EXPECT_EQ(read_file(path("t1") + name), read_file(path("t2") + name)) << name;
+    EXPECT_EQ(read_file(path("t2") + name), read_file(path("t2b") + name)) << name;
+    EXPECT_EQ(read_file(path("t1") + name), read_file(path("t0") + name)) << name;
   }
   EXPECT_EQ(read_file(path("t1/checkpoints/latest.bin")),
             read_file(path("t2/checkpoints/latest.bin")));
   // The comparison means something: the particles moved.
-  EXPECT_NE(read_file(path("t1/frames/00000.ply")),
-            read_file(path("t1/frames/00004.ply")));
+  EXPECT_NE(read_file(path("t1/frames/00000.ply")), read_file(path("t1/frames/00004.ply")));
 }
 
 TEST_F(Cli, ResumedRunMatchesAnUninterruptedOne) {
   const std::string s = write_scene(scene());
   ASSERT_EQ(tear("run " + s + " -o " + path("full") + " -q"), 0) << err_;
-  ASSERT_EQ(tear("run " + s + " -o " + path("part") + " -q --frames 2"), 0)
-      << err_;
+  ASSERT_EQ(tear("run " + s + " -o " + path("part") + " -q --frames 2"), 0) << err_;
   EXPECT_EQ(count_frames(path("part")), 3);
-  ASSERT_EQ(tear("run " + s + " -o " + path("part") + " --resume --frames 4"),
-            0)
-      << err_;
+  ASSERT_EQ(tear("run " + s + " -o " + path("part") + " --resume --frames 4"), 0) << err_;
   EXPECT_NE(err_.find("resuming"), std::string::npos) << err_;
   EXPECT_EQ(count_frames(path("part")), 5);
-  EXPECT_EQ(read_file(path("full/frames/00004.ply")),
-            read_file(path("part/frames/00004.ply")));
+  EXPECT_EQ(read_file(path("full/frames/00004.ply")), read_file(path("part/frames/00004.ply")));
   EXPECT_EQ(read_file(path("full/checkpoints/latest.bin")),
             read_file(path("part/checkpoints/latest.bin")));
-  EXPECT_EQ(json::parse(read_file(path("part/scene.json")))["time"]["frames"],
-            4);
+  EXPECT_EQ(json::parse(read_file(path("part/scene.json")))["time"]["frames"], 4);
   const std::vector<json> a = stats(path("full")), b = stats(path("part"));
   ASSERT_EQ(b.size(), 5u);
   for (size_t f = 0; f < a.size(); ++f) {
@@ -136,16 +113,11 @@ TEST_F(Cli, ResumedRunMatchesAnUninterruptedOne) {
     EXPECT_EQ(a[f]["steps"], b[f]["steps"]) << f;
   }
   // Resuming a finished run is not an error and changes nothing.
-  EXPECT_EQ(tear("run " + s + " -o " + path("part") + " --resume --frames 3"),
-            0)
-      << err_;
+  EXPECT_EQ(tear("run " + s + " -o " + path("part") + " --resume --frames 3"), 0) << err_;
   EXPECT_NE(out_.find("already complete"), std::string::npos) << out_;
-  EXPECT_EQ(json::parse(read_file(path("part/scene.json")))["time"]["frames"],
-            4);
+  EXPECT_EQ(json::parse(read_file(path("part/scene.json")))["time"]["frames"], 4);
   // Resuming with a changed scene, or where nothing ran, is.
-  EXPECT_EQ(tear("run " + s + " -o " + path("part") +
-                 " --resume --set materials.jelly.E=600"),
-            1);
+  EXPECT_EQ(tear("run " + s + " -o " + path("part") + " --resume --set materials.jelly.E=600"), 1);
   EXPECT_NE(err_.find(path("part") + "/scene.json: scene differs from " + s),
             std::string::npos)
       << err_;
@@ -156,15 +128,14 @@ TEST_F(Cli, ResumedRunMatchesAnUninterruptedOne) {
 
 TEST_F(Cli, SetAndFramesOverrideTheScene) {
   const std::string s = write_scene(scene());
-  ASSERT_EQ(tear("run " + s + " -o " + path("o") +
-                 " -q --frames 2 --set materials.jelly.E=750"
+  ASSERT_EQ(tear("run " + s + " -o " + path("o") + " -q --frames 2 --set materials.jelly.E=750"
                  " --set 'gravity=[0,-1]' --set transfer=pic"),
             0)
       << err_;
   const json resolved = json::parse(read_file(path("o/scene.json")));
   EXPECT_EQ(resolved["materials"]["jelly"]["E"], 750);
   EXPECT_EQ(resolved["gravity"], json::parse("[0,-1]"));
-  EXPECT_EQ(resolved["transfer"], "pic"); // not JSON: taken as a string
+  EXPECT_EQ(resolved["transfer"], "pic");  // not JSON: taken as a string
   EXPECT_EQ(resolved["time"]["frames"], 2);
   EXPECT_EQ(count_frames(path("o")), 3);
   EXPECT_TRUE(fs::exists(path("o/frames/00002.ply")));
@@ -182,10 +153,8 @@ TEST_F(Cli, BadInputFailsWithAReasonAndWritesNothing) {
   json bad_type = scene();
   bad_type["grid"]["dx"] = "small";
   const std::vector<std::pair<json, std::string>> cases = {
-      {typo, "materials.jelly.nuu"},
-      {bad_nu, "materials.jelly.nu"},
-      {bad_type, "grid.dx"}};
-  for (const auto &[doc, expected] : cases) {
+      {typo, "materials.jelly.nuu"}, {bad_nu, "materials.jelly.nu"}, {bad_type, "grid.dx"}};
+  for (const auto& [doc, expected] : cases) {
     const std::string s = write_scene(doc, "bad.json");
     EXPECT_EQ(tear("run " + s + " -o " + path("never")), 1) << expected;
     EXPECT_EQ(err_.rfind("tear: ", 0), 0u) << err_;
@@ -201,13 +170,9 @@ TEST_F(Cli, BadInputFailsWithAReasonAndWritesNothing) {
   EXPECT_FALSE(fs::exists(path("never")));
   // The same through --set: an unknown key and a bad value.
   const std::string s = write_scene(scene());
-  EXPECT_EQ(tear("run " + s + " -o " + path("never") +
-                 " --set materials.jelly.nuu=1"),
-            1);
+  EXPECT_EQ(tear("run " + s + " -o " + path("never") + " --set materials.jelly.nuu=1"), 1);
   EXPECT_NE(err_.find("materials.jelly.nuu"), std::string::npos) << err_;
-  EXPECT_EQ(
-      tear("run " + s + " -o " + path("never") + " --set materials.jelly.E=-5"),
-      1);
+  EXPECT_EQ(tear("run " + s + " -o " + path("never") + " --set materials.jelly.E=-5"), 1);
   EXPECT_NE(err_.find("materials.jelly.E"), std::string::npos) << err_;
   EXPECT_NE(err_.find("scene.json"), std::string::npos) << err_;
   EXPECT_FALSE(fs::exists(path("never")));
@@ -216,15 +181,14 @@ TEST_F(Cli, BadInputFailsWithAReasonAndWritesNothing) {
 TEST_F(Cli, UsageErrorsExitTwo) {
   EXPECT_EQ(tear(""), 2);
   EXPECT_EQ(tear("run"), 2);
-  EXPECT_EQ(tear("run x.json"), 2); // no -o
+  EXPECT_EQ(tear("run x.json"), 2);  // no -o
   EXPECT_EQ(tear("run --threads -3 x.json -o y"), 2);
   EXPECT_EQ(tear("frobnicate"), 2);
   EXPECT_EQ(tear("--help"), 0);
-  for (const char *sub : {"run", "check", "info", "bench"})
+  for (const char* sub : {"run", "check", "info", "bench"})
     EXPECT_NE(out_.find(sub), std::string::npos) << sub;
   EXPECT_EQ(tear("run --help"), 0);
-  for (const char *opt :
-       {"--out", "--threads", "--frames", "--set", "--quiet", "--resume"})
+  for (const char* opt : {"--out", "--threads", "--frames", "--set", "--quiet", "--resume"})
     EXPECT_NE(out_.find(opt), std::string::npos) << opt;
   EXPECT_EQ(tear("--version"), 0);
   EXPECT_EQ(out_.rfind("tear ", 0), 0u) << out_;
@@ -232,13 +196,12 @@ TEST_F(Cli, UsageErrorsExitTwo) {
 
 TEST_F(Cli, InfoAndQuickBench) {
   EXPECT_EQ(tear("info"), 0) << err_;
-  for (const char *k :
-       {"precision", "asserts", "compiler", "eigen", "onetbb", "threads"})
+  for (const char* k : {"precision", "asserts", "compiler", "eigen", "onetbb", "threads"})
     EXPECT_NE(out_.find(k), std::string::npos) << k;
   // stdout is exactly one JSON object; notes go to stderr.
   ASSERT_EQ(tear("bench --quick --threads-list 1,2"), 0) << err_;
   const json b = json::parse(out_);
-  for (const char *k : {"evaluations", "qr_aniso", "fixed_corotated"})
+  for (const char* k : {"evaluations", "qr_aniso", "fixed_corotated"})
     EXPECT_TRUE(b["stress"].contains(k)) << k;
   EXPECT_EQ(b["stress"]["evaluations"], 100000);
   EXPECT_GT(b["stress"]["speedup_qr_over_fixed_corotated"].get<double>(), 0.0);
@@ -250,10 +213,9 @@ TEST_F(Cli, InfoAndQuickBench) {
     EXPECT_GT(b["step"][i]["particles"].get<long>(), 10000);
     EXPECT_TRUE(b["step"][i].contains("phase_s"));
   }
-  for (const char *k : {"none", "explicit", "implicit"})
+  for (const char* k : {"none", "explicit", "implicit"})
     EXPECT_GT(b["damage"][k]["s_per_step"].get<double>(), 0) << k;
-  EXPECT_GE(b["damage"]["implicit"]["cg_iterations_per_solve"].get<double>(),
-            1.0);
+  EXPECT_GE(b["damage"]["implicit"]["cg_iterations_per_solve"].get<double>(), 1.0);
   EXPECT_GT(b["damage"]["implicit"]["cost_vs_none"].get<double>(), 1.0);
 }
 
@@ -287,9 +249,9 @@ TEST_F(Cli, ImplicitDamageRecordsCgFiguresAndResumesBitIdentically) {
   ASSERT_EQ(a.size(), 5u);
   EXPECT_GT(a.back()["max_damage"].get<double>(), 0.9);
   long solves = 0, iterations = 0;
-  for (const json &f : a) {
-    for (const char *k : {"cg_solves", "cg_iterations", "cg_iterations_max",
-                          "cg_unconverged", "residual"})
+  for (const json& f : a) {
+    for (const char* k : {"cg_solves", "cg_iterations", "cg_iterations_max", "cg_unconverged",
+                          "residual"})
       EXPECT_TRUE(f.contains(k)) << k;
     solves += f["cg_solves"].get<long>();
     iterations += f["cg_iterations"].get<long>();
@@ -299,24 +261,18 @@ TEST_F(Cli, ImplicitDamageRecordsCgFiguresAndResumesBitIdentically) {
   EXPECT_GT(solves, 0);
   EXPECT_LE(iterations, 3 * solves);
   // Resume half way: same bits.
-  ASSERT_EQ(tear("run " + s + " -o " + path("part") + " -q --frames 2"), 0)
-      << err_;
-  ASSERT_EQ(
-      tear("run " + s + " -o " + path("part") + " -q --resume --frames 4"), 0)
-      << err_;
-  EXPECT_EQ(read_file(path("full/frames/00004.ply")),
-            read_file(path("part/frames/00004.ply")));
+  ASSERT_EQ(tear("run " + s + " -o " + path("part") + " -q --frames 2"), 0) << err_;
+  ASSERT_EQ(tear("run " + s + " -o " + path("part") + " -q --resume --frames 4"), 0) << err_;
+  EXPECT_EQ(read_file(path("full/frames/00004.ply")), read_file(path("part/frames/00004.ply")));
   // A CG that cannot converge is reported once on stderr, and counted.
   ASSERT_EQ(tear("run " + s + " -o " + path("capped") +
-                 " -q --set damage.cg_max_iterations=1 --set "
-                 "damage.cg_tolerance=1e-14"),
+                 " -q --set damage.cg_max_iterations=1 --set damage.cg_tolerance=1e-14"),
             0)
       << err_;
   EXPECT_NE(err_.find("warning: frame"), std::string::npos) << err_;
-  EXPECT_EQ(err_.find("warning", err_.find("warning") + 1), std::string::npos)
-      << err_;
+  EXPECT_EQ(err_.find("warning", err_.find("warning") + 1), std::string::npos) << err_;
   EXPECT_GT(stats(path("capped")).back()["cg_unconverged"].get<long>(), 0);
 }
 
-} // namespace
-} // namespace tear
+}  // namespace
+}  // namespace tear

@@ -35,20 +35,17 @@ TEST(Degradation, EndPointsAndMonotone) {
 TEST(TensilePart, KeepsOnlyPositiveEigenvalues) {
   Mat<3> s = Mat<3>::Zero();
   s.diagonal() << 2, -1, 0.5;
-  const Mat<3> Q = Eigen::AngleAxis<Real>(0.7, Vec<3>(1, 2, 3).normalized())
-                       .toRotationMatrix();
+  const Mat<3> Q = Eigen::AngleAxis<Real>(0.7, Vec<3>(1, 2, 3).normalized()).toRotationMatrix();
   Mat<3> expected = Mat<3>::Zero();
   expected.diagonal() << 2, 0, 0.5;
-  EXPECT_LT(
-      (tensile_part<3>(Q * s * Q.transpose()) - Q * expected * Q.transpose())
-          .norm(),
-      1e-12);
+  EXPECT_LT((tensile_part<3>(Q * s * Q.transpose()) - Q * expected * Q.transpose()).norm(), 1e-12);
   EXPECT_LT(tensile_part<2>(-Mat<2>::Identity()).norm(), 1e-15);
 }
 
-// Every sign pattern of eigenvalues (definite ones take a shortcut), against an
-// explicit eigen-decomposition.
-template <int Dim> void check_tensile_part_sign_patterns() {
+// Every sign pattern of eigenvalues (definite ones take a shortcut), against an explicit
+// eigen-decomposition.
+template <int Dim>
+void check_tensile_part_sign_patterns() {
   std::mt19937_64 rng(9);
   std::uniform_real_distribution<double> u(0.1, 2);
   for (int pattern = 0; pattern < (1 << Dim); ++pattern)
@@ -62,14 +59,12 @@ template <int Dim> void check_tensile_part_sign_patterns() {
       if constexpr (Dim == 2) {
         Q = frame2(360 * u(rng));
       } else {
-        Q = Eigen::AngleAxis<Real>(Real(3 * u(rng)),
-                                   Vec<3>(u(rng), -u(rng), u(rng)).normalized())
+        Q = Eigen::AngleAxis<Real>(Real(3 * u(rng)), Vec<3>(u(rng), -u(rng), u(rng)).normalized())
                 .toRotationMatrix();
       }
       const Mat<Dim> sym = Q * lambda.asDiagonal() * Q.transpose();
       const Mat<Dim> expected = Q * positive.asDiagonal() * Q.transpose();
-      EXPECT_LT((tensile_part<Dim>(sym) - expected).norm(), 1e-12)
-          << "pattern " << pattern;
+      EXPECT_LT((tensile_part<Dim>(sym) - expected).norm(), 1e-12) << "pattern " << pattern;
     }
 }
 
@@ -80,55 +75,45 @@ TEST(TensilePart, EverySignPatternMatchesTheEigenDecomposition3D) {
   check_tensile_part_sign_patterns<3>();
 }
 
-// Spectra the closed forms find hard, against Eigen's iterative (QL)
-// eigen-decomposition: repeated eigenvalues, an eigenvalue at round-off
-// distance from 0, and two eigenvalues clustered at 0 around a large one. The
-// last is as hard for any cubic-root method (the old computeDirect path
-// included): the pair is resolved only to ~sqrt(eps) |sym|.
-template <int Dim> void check_tensile_part_degenerate_spectra() {
+// Spectra the closed forms find hard, against Eigen's iterative (QL) eigen-decomposition:
+// repeated eigenvalues, an eigenvalue at round-off distance from 0, and two eigenvalues
+// clustered at 0 around a large one. The last is as hard for any cubic-root method (the old
+// computeDirect path included): the pair is resolved only to ~sqrt(eps) |sym|.
+template <int Dim>
+void check_tensile_part_degenerate_spectra() {
   std::mt19937_64 rng(21);
   std::uniform_real_distribution<double> u(-1, 1);
   struct Family {
-    const char *name;
-    double tolerance; // on |error| / |sym|
+    const char* name;
+    double tolerance;  // on |error| / |sym|
   };
-  const Family families[] = {{"generic", 1e-13},
-                             {"double", 1e-13},
-                             {"one_near_zero", 1e-11},
+  const Family families[] = {{"generic", 1e-13}, {"double", 1e-13}, {"one_near_zero", 1e-11},
                              {"pair_near_zero", 1e-7}};
   for (int f = 0; f < 4; ++f) {
     double worst = 0;
     for (int k = 0; k < 4000; ++k) {
       Vec<Dim> lambda;
-      for (int d = 0; d < Dim; ++d)
-        lambda[d] = Real(u(rng));
-      if (f == 1)
-        lambda[1] = lambda[0];
-      if (f == 2)
-        lambda[1] = Real(1e-13 * u(rng));
+      for (int d = 0; d < Dim; ++d) lambda[d] = Real(u(rng));
+      if (f == 1) lambda[1] = lambda[0];
+      if (f == 2) lambda[1] = Real(1e-13 * u(rng));
       if (f == 3) {
         lambda[1] = Real(1e-10 * u(rng));
-        if (Dim == 3)
-          lambda[2] = Real(1e-10 * u(rng));
+        if (Dim == 3) lambda[2] = Real(1e-10 * u(rng));
       }
       Mat<Dim> Q;
       if constexpr (Dim == 2) {
         Q = frame2(180 * u(rng));
       } else {
-        Q = Eigen::AngleAxis<Real>(Real(3 * u(rng)),
-                                   Vec<3>(u(rng), u(rng), u(rng)).normalized())
+        Q = Eigen::AngleAxis<Real>(Real(3 * u(rng)), Vec<3>(u(rng), u(rng), u(rng)).normalized())
                 .toRotationMatrix();
       }
       Mat<Dim> sym = Q * lambda.asDiagonal() * Q.transpose();
       sym = (Real(0.5) * (sym + sym.transpose())).eval();
-      Eigen::SelfAdjointEigenSolver<Mat<Dim>> eig(
-          sym); // iterative: accurate eigenvectors
+      Eigen::SelfAdjointEigenSolver<Mat<Dim>> eig(sym);  // iterative: accurate eigenvectors
       const Vec<Dim> positive = eig.eigenvalues().cwiseMax(Real(0));
-      const Mat<Dim> expected = eig.eigenvectors() * positive.asDiagonal() *
-                                eig.eigenvectors().transpose();
-      worst =
-          std::max(worst, double((tensile_part<Dim>(sym) - expected).norm() /
-                                 sym.norm()));
+      const Mat<Dim> expected =
+          eig.eigenvectors() * positive.asDiagonal() * eig.eigenvectors().transpose();
+      worst = std::max(worst, double((tensile_part<Dim>(sym) - expected).norm() / sym.norm()));
     }
     EXPECT_LT(worst, families[f].tolerance) << families[f].name;
   }
@@ -141,9 +126,8 @@ TEST(TensilePart, DegenerateSpectraMatchAnIterativeDecomposition3D) {
   check_tensile_part_degenerate_spectra<3>();
 }
 
-// particle_phi evaluates (A s) : (s A) through the fiber vectors without
-// forming A; it must equal the same formula through structural_tensor() and
-// driving_phi().
+// particle_phi evaluates (A s) : (s A) through the fiber vectors without forming A; it must
+// equal the same formula through structural_tensor() and driving_phi().
 template <int Dim>
 void check_particle_phi_matches_the_structural_tensor_form() {
   const MaterialParams m = make_material(Model::QrAniso, 1000, 0.3, 1, 3, 1);
@@ -153,19 +137,15 @@ void check_particle_phi_matches_the_structural_tensor_form() {
   int compared = 0;
   for (int k = 0; k < 200; ++k) {
     Mat<Dim> F = Mat<Dim>::Identity(), B;
-    for (int i = 0; i < Dim * Dim; ++i)
-      F.data()[i] += Real(u(rng)), B.data()[i] = Real(u(rng));
+    for (int i = 0; i < Dim * Dim; ++i) F.data()[i] += Real(u(rng)), B.data()[i] = Real(u(rng));
     Mat<Dim> D, R;
     qr_decompose<Dim>(Mat<Dim>::Identity() + B, &D, &R);
     const Real J = F.determinant();
-    if (J <= 0)
-      continue;
+    if (J <= 0) continue;
     const Mat<Dim> cauchy = first_piola<Dim>(m, F, D) * F.transpose() / J;
-    for (const auto &alpha : alphas) {
-      const Real expected =
-          driving_phi<Dim>(cauchy, structural_tensor<Dim>(F, D, alpha), 50);
-      EXPECT_NEAR(particle_phi<Dim>(m, F, D, alpha, 50), expected,
-                  1e-12 * (1 + expected));
+    for (const auto& alpha : alphas) {
+      const Real expected = driving_phi<Dim>(cauchy, structural_tensor<Dim>(F, D, alpha), 50);
+      EXPECT_NEAR(particle_phi<Dim>(m, F, D, alpha, 50), expected, 1e-12 * (1 + expected));
       ++compared;
     }
   }
@@ -179,27 +159,25 @@ TEST(DrivingForce, ParticlePhiEqualsTheStructuralTensorForm3D) {
   check_particle_phi_matches_the_structural_tensor_form<3>();
 }
 
-// particle_phi_excess returns max(Phi - 1, 0) and skips work when a bound shows
-// Phi <= 1: the bound must never hide a positive excess, for any alpha
-// (negative, positive, beyond -1) and fiber frames that are not orthonormal.
-template <int Dim> void check_phi_excess_matches_phi() {
+// particle_phi_excess returns max(Phi - 1, 0) and skips work when a bound shows Phi <= 1: the
+// bound must never hide a positive excess, for any alpha (negative, positive, beyond -1) and
+// fiber frames that are not orthonormal.
+template <int Dim>
+void check_phi_excess_matches_phi() {
   const MaterialParams m = make_material(Model::QrAniso, 1000, 0.3, 1, 3, 1);
   std::mt19937_64 rng(9);
   std::uniform_real_distribution<double> u(-0.3, 0.3);
-  const Real alphas[][2] = {{0, 0},   {-1, 0},   {-1, -1},
-                            {2, 0.5}, {-1.5, 0}, {-0.3, 4}};
+  const Real alphas[][2] = {{0, 0}, {-1, 0}, {-1, -1}, {2, 0.5}, {-1.5, 0}, {-0.3, 4}};
   int below = 0, above = 0;
   for (int k = 0; k < 300; ++k) {
     Mat<Dim> F = Mat<Dim>::Identity(), D = Mat<Dim>::Identity();
     for (int i = 0; i < Dim * Dim; ++i)
       F.data()[i] += Real(u(rng)), D.data()[i] += Real(2 * u(rng));
-    if (F.determinant() <= 0 || D.determinant() <= 0)
-      continue;
-    for (const auto &alpha : alphas)
+    if (F.determinant() <= 0 || D.determinant() <= 0) continue;
+    for (const auto& alpha : alphas)
       for (Real sigma_c : {5.0, 30.0, 100.0, 400.0}) {
         const Real phi = particle_phi<Dim>(m, F, D, alpha, sigma_c);
-        EXPECT_EQ(particle_phi_excess<Dim>(m, F, D, alpha, sigma_c),
-                  std::max(phi - 1, Real(0)));
+        EXPECT_EQ(particle_phi_excess<Dim>(m, F, D, alpha, sigma_c), std::max(phi - 1, Real(0)));
         (phi > 1 ? above : below) += 1;
       }
   }
@@ -207,12 +185,8 @@ template <int Dim> void check_phi_excess_matches_phi() {
   EXPECT_GT(above, 500);
 }
 
-TEST(DrivingForce, PhiExcessIsPhiMinusOneOrZero2D) {
-  check_phi_excess_matches_phi<2>();
-}
-TEST(DrivingForce, PhiExcessIsPhiMinusOneOrZero3D) {
-  check_phi_excess_matches_phi<3>();
-}
+TEST(DrivingForce, PhiExcessIsPhiMinusOneOrZero2D) { check_phi_excess_matches_phi<2>(); }
+TEST(DrivingForce, PhiExcessIsPhiMinusOneOrZero3D) { check_phi_excess_matches_phi<3>(); }
 
 TEST(DrivingForce, TensionAlongTheFiberDoesNotDriveCracksAcrossItDoes) {
   const Real alpha[2] = {-1, 0};
@@ -221,33 +195,29 @@ TEST(DrivingForce, TensionAlongTheFiberDoesNotDriveCracksAcrossItDoes) {
   const Vec<2> a1 = D.col(0), a2 = D.col(1);
   const Mat<2> A = structural_tensor<2>(Mat<2>::Identity(), D, alpha);
   EXPECT_NEAR(driving_phi<2>(s * a1 * a1.transpose(), A, sigma_c), 0, 1e-14);
-  EXPECT_NEAR(driving_phi<2>(s * a2 * a2.transpose(), A, sigma_c),
-              (s / sigma_c) * (s / sigma_c), 1e-12);
+  EXPECT_NEAR(driving_phi<2>(s * a2 * a2.transpose(), A, sigma_c), (s / sigma_c) * (s / sigma_c),
+              1e-12);
   // Compression drives nothing, whatever the fibers.
   EXPECT_NEAR(driving_phi<2>(-s * a2 * a2.transpose(), A, sigma_c), 0, 1e-20);
 }
 
-// Paper Fig. 11: uniaxial tension s along n, alpha1 = -1, fibers at angle theta
-// to n: Phi = (s / sigma_c)^2 sin^4(theta); isotropic: (s / sigma_c)^2 in every
-// direction.
+// Paper Fig. 11: uniaxial tension s along n, alpha1 = -1, fibers at angle theta to n:
+// Phi = (s / sigma_c)^2 sin^4(theta); isotropic: (s / sigma_c)^2 in every direction.
 TEST(DrivingForce, FourFiberDirectionsOfFigure11) {
   const double s = 1.5, sigma_c = 1;
   struct Row {
     double fiber_deg;
     Real alpha1;
   };
-  for (const Row &row : {Row{0, -1}, Row{45, -1}, Row{90, -1}, Row{0, 0}}) {
+  for (const Row& row : {Row{0, -1}, Row{45, -1}, Row{90, -1}, Row{0, 0}}) {
     const Real alpha[2] = {row.alpha1, 0};
-    const Mat<2> A =
-        structural_tensor<2>(Mat<2>::Identity(), frame2(row.fiber_deg), alpha);
+    const Mat<2> A = structural_tensor<2>(Mat<2>::Identity(), frame2(row.fiber_deg), alpha);
     for (double load_deg : {0.0, 30.0, 45.0, 90.0, 135.0}) {
       const Vec<2> n = frame2(load_deg).col(0);
       const double theta = (load_deg - row.fiber_deg) * kPi / 180;
       const double expected =
-          s * s * (row.alpha1 == 0 ? 1.0 : std::pow(std::sin(theta), 4)) /
-          (sigma_c * sigma_c);
-      EXPECT_NEAR(driving_phi<2>(s * n * n.transpose(), A, sigma_c), expected,
-                  1e-12)
+          s * s * (row.alpha1 == 0 ? 1.0 : std::pow(std::sin(theta), 4)) / (sigma_c * sigma_c);
+      EXPECT_NEAR(driving_phi<2>(s * n * n.transpose(), A, sigma_c), expected, 1e-12)
           << "fiber " << row.fiber_deg << " load " << load_deg;
     }
   }
@@ -260,17 +230,12 @@ TEST(DrivingForce, RotatingTheBodyRotatesTheStructuralTensor) {
   std::uniform_real_distribution<double> u(-0.2, 0.2);
   for (int k = 0; k < 10; ++k) {
     Mat<3> F = Mat<3>::Identity(), B;
-    for (int i = 0; i < 9; ++i)
-      F.data()[i] += u(rng), B.data()[i] = u(rng);
+    for (int i = 0; i < 9; ++i) F.data()[i] += u(rng), B.data()[i] = u(rng);
     Mat<3> D, R;
     qr_decompose<3>(Mat<3>::Identity() + B, &D, &R);
-    const Mat<3> Q =
-        Eigen::AngleAxis<Real>(1.1 * k, Vec<3>(1, -2, 0.5).normalized())
-            .toRotationMatrix();
+    const Mat<3> Q = Eigen::AngleAxis<Real>(1.1 * k, Vec<3>(1, -2, 0.5).normalized()).toRotationMatrix();
     const Mat<3> A = structural_tensor<3>(F, D, alpha);
-    EXPECT_LT(
-        (structural_tensor<3>(Q * F, D, alpha) - Q * A * Q.transpose()).norm(),
-        1e-10);
+    EXPECT_LT((structural_tensor<3>(Q * F, D, alpha) - Q * A * Q.transpose()).norm(), 1e-10);
     const Real phi = particle_phi<3>(m, F, D, alpha, 10);
     EXPECT_NEAR(particle_phi<3>(m, Q * F, D, alpha, 10), phi, 1e-9 * (1 + phi));
   }
@@ -284,15 +249,13 @@ TEST(DrivingForce, ParticleStretchedAcrossItsFibersTearsAlongThemDoesNot) {
   Mat<2> along = Mat<2>::Identity(), across = Mat<2>::Identity();
   along(0, 0) = 1.1;
   across(1, 1) = 1.1;
-  // Only the small nonlinear lateral stress of the stretch along the fibers
-  // drives damage.
+  // Only the small nonlinear lateral stress of the stretch along the fibers drives damage.
   const Real phi_along = particle_phi<2>(m, along, D, alpha, 10);
   const Real phi_across = particle_phi<2>(m, across, D, alpha, 10);
   EXPECT_GT(phi_across, 50);
   EXPECT_LT(phi_along, 0.01 * phi_across);
   const Real isotropic[2] = {0, 0};
-  // Isotropic: the same in both directions; the fibers remove the part along
-  // them only.
+  // Isotropic: the same in both directions; the fibers remove the part along them only.
   const Real iso = particle_phi<2>(m, along, D, isotropic, 10);
   EXPECT_NEAR(particle_phi<2>(m, across, D, isotropic, 10), iso, 1e-9 * iso);
   EXPECT_NEAR(iso, phi_across + phi_along, 1e-9 * iso);
@@ -301,5 +264,5 @@ TEST(DrivingForce, ParticleStretchedAcrossItsFibersTearsAlongThemDoesNot) {
   EXPECT_EQ(particle_phi<2>(m, inverted, D, alpha, 10), 0);
 }
 
-} // namespace
-} // namespace tear
+}  // namespace
+}  // namespace tear

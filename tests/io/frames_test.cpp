@@ -1,12 +1,13 @@
 // The frames of a run folder: listing, format preference, frame ranges, reading
 // by extension.
-#include "tear/io/atomic_file.h"
 #include "tear/io/frames.h"
-#include "tear/io/ply.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
+
+#include "tear/io/atomic_file.h"
+#include "tear/io/ply.h"
 
 namespace tear {
 namespace {
@@ -22,10 +23,8 @@ PointTable small_table(double x0) {
 }
 
 TEST(Frames, PathHasFiveDigitsAndTheFormat) {
-  EXPECT_EQ(frame_path("out", 7, "ply"),
-            (fs::path("out") / "frames" / "00007.ply").string());
-  EXPECT_EQ(frame_path("o", 123456, "ply"),
-            (fs::path("o") / "frames" / "123456.ply").string());
+  EXPECT_EQ(frame_path("out", 7, "ply"), (fs::path("out") / "frames" / "00007.ply").string());
+  EXPECT_EQ(frame_path("o", 123456, "ply"), (fs::path("o") / "frames" / "123456.ply").string());
 }
 
 TEST(Frames, ListSortsByFrameAndSkipsOtherFiles) {
@@ -33,8 +32,7 @@ TEST(Frames, ListSortsByFrameAndSkipsOtherFiles) {
   fs::remove_all(dir);
   make_directories((dir / "frames").string());
   for (int f : {10, 2, 0})
-    write_file_atomic(frame_path(dir.string(), f, "ply"),
-                      encode_ply(small_table(f)));
+    write_file_atomic(frame_path(dir.string(), f, "ply"), encode_ply(small_table(f)));
   write_file_atomic((dir / "frames" / "notes.txt").string(), "x");
   write_file_atomic((dir / "frames" / "00003.png").string(), "x");
   const std::vector<FrameFile> frames = list_frames(dir.string());
@@ -52,8 +50,7 @@ TEST(Frames, MissingFolderAndUnknownFormatAreClearErrors) {
     list_frames("/nonexistent/run");
     FAIL();
   } catch (const std::runtime_error &e) {
-    EXPECT_NE(std::string(e.what()).find("/nonexistent/run: no frames/ folder"),
-              std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/run: no frames/ folder"), std::string::npos);
   }
   EXPECT_THROW(read_frame("a/frames/00001.xyz"), std::runtime_error);
   EXPECT_THROW(encode_points(small_table(0), "xyz"), std::runtime_error);
@@ -76,5 +73,5 @@ TEST(Frames, RangesParse) {
     EXPECT_THROW(parse_frame_range(bad), std::runtime_error) << bad;
 }
 
-} // namespace
-} // namespace tear
+}  // namespace
+}  // namespace tear

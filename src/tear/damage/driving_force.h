@@ -1,48 +1,42 @@
-// damage/: the anisotropic crack driving force of AnisoMPM (paper §3,
-// EQUATIONS.md §1) and the degradation function. Pure functions of F, the fiber
-// frame and the damage parameters; the grid-side damage solvers live in mpm/.
+// damage/: the anisotropic crack driving force of AnisoMPM (paper §3, EQUATIONS.md §1) and
+// the degradation function. Pure functions of F, the fiber frame and the damage parameters;
+// the grid-side damage solvers live in mpm/.
 #pragma once
 
 #include "tear/materials/material.h"
 
 namespace tear {
 
-// g(d) = (1 - d)^2 (1 - r) + r: g(0) = 1, g(1) = r (EQUATIONS.md §2
-// "Degradation").
+// g(d) = (1 - d)^2 (1 - r) + r: g(0) = 1, g(1) = r (EQUATIONS.md §2 "Degradation").
 inline Real degradation(Real d, Real residual) {
   return (1 - d) * (1 - d) * (1 - residual) + residual;
 }
 
-// Tensile part sigma+ = sum_a <sigma_a> n_a n_a^T of a symmetric matrix (closed
-// form, no eigenvectors). Error ~eps |sym| in general; in 3D with two
-// eigenvalues near 0 it grows towards ~sqrt(eps) |sym|, as for any solution
-// through the characteristic cubic.
-template <int Dim> Mat<Dim> tensile_part(const Mat<Dim> &sym);
-
-// World-space structural tensor A = I + alpha1 (R a1)(R a1)^T + alpha2 (R a2)(R
-// a2)^T, with R the rotation of the polar decomposition of F and D = [a1 a2
-// (a3)] the rest fiber frame.
+// Tensile part sigma+ = sum_a <sigma_a> n_a n_a^T of a symmetric matrix (closed form, no
+// eigenvectors). Error ~eps |sym| in general; in 3D with two eigenvalues near 0 it grows
+// towards ~sqrt(eps) |sym|, as for any solution through the characteristic cubic.
 template <int Dim>
-Mat<Dim> structural_tensor(const Mat<Dim> &F, const Mat<Dim> &D,
-                           const Real alpha[2]);
+Mat<Dim> tensile_part(const Mat<Dim>& sym);
 
-// Phi = (A sigma+) : (sigma+ A) / sigma_c^2 for a given Cauchy stress and
-// structural tensor.
+// World-space structural tensor A = I + alpha1 (R a1)(R a1)^T + alpha2 (R a2)(R a2)^T, with
+// R the rotation of the polar decomposition of F and D = [a1 a2 (a3)] the rest fiber frame.
 template <int Dim>
-Real driving_phi(const Mat<Dim> &cauchy, const Mat<Dim> &A, Real sigma_c);
+Mat<Dim> structural_tensor(const Mat<Dim>& F, const Mat<Dim>& D, const Real alpha[2]);
 
-// Phi of a particle: Cauchy stress sigma = P F^T / J of the undegraded model.
-// An inverted or collapsed particle (J <= 0) is in compression and has no
-// tensile driving force: 0.
+// Phi = (A sigma+) : (sigma+ A) / sigma_c^2 for a given Cauchy stress and structural tensor.
 template <int Dim>
-Real particle_phi(const MaterialParams &m, const Mat<Dim> &F, const Mat<Dim> &D,
+Real driving_phi(const Mat<Dim>& cauchy, const Mat<Dim>& A, Real sigma_c);
+
+// Phi of a particle: Cauchy stress sigma = P F^T / J of the undegraded model. An inverted or
+// collapsed particle (J <= 0) is in compression and has no tensile driving force: 0.
+template <int Dim>
+Real particle_phi(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D,
                   const Real alpha[2], Real sigma_c);
 
-// max(Phi - 1, 0), the particle's drive before the slope zeta: equal to the
-// value from particle_phi but skips the tensile part and the rotation when a
-// bound on Phi is <= 1.
+// max(Phi - 1, 0), the particle's drive before the slope zeta: the value particle_phi gives,
+// but skipping the tensile part and the rotation when a bound shows Phi <= 1.
 template <int Dim>
-Real particle_phi_excess(const MaterialParams &m, const Mat<Dim> &F,
-                         const Mat<Dim> &D, const Real alpha[2], Real sigma_c);
+Real particle_phi_excess(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D,
+                         const Real alpha[2], Real sigma_c);
 
-} // namespace tear
+}  // namespace tear

@@ -30,28 +30,25 @@ using Clock = std::chrono::steady_clock;
 namespace {
 
 // The frame in every format the scene asks for.
-void write_frame(const std::string &dir, int frame, const Simulation &sim,
-                 const std::vector<std::string> &formats) {
+void write_frame(const std::string& dir, int frame, const Simulation& sim,
+                 const std::vector<std::string>& formats) {
   const PointTable table = sim.frame_table();
-  for (const std::string &f : formats)
+  for (const std::string& f : formats)
     write_file_atomic(frame_path(dir, frame, f), encode_points(table, f));
 }
 
 std::string clock_text(double seconds) {
-  if (!std::isfinite(seconds) || seconds < 0)
-    return "--:--";
+  if (!std::isfinite(seconds) || seconds < 0) return "--:--";
   const long s = std::lround(seconds);
   char buf[32];
   if (s >= 3600)
-    std::snprintf(buf, sizeof(buf), "%ld:%02ld:%02ld", s / 3600, (s / 60) % 60,
-                  s % 60);
+    std::snprintf(buf, sizeof(buf), "%ld:%02ld:%02ld", s / 3600, (s / 60) % 60, s % 60);
   else
     std::snprintf(buf, sizeof(buf), "%ld:%02ld", s / 60, s % 60);
   return buf;
 }
 
-// Simulated time with three decimals, or three significant digits for tiny
-// frame times.
+// Simulated time with three decimals, or three significant digits for tiny frame times.
 std::string time_text(double t) {
   char buf[32];
   if (t == 0 || std::abs(t) >= 1e-2)
@@ -61,153 +58,132 @@ std::string time_text(double t) {
   return buf;
 }
 
-// One status line on stderr, "frame 12/48  t=0.500s  steps/s 1234  ETA 0:35":
-// rewritten in place behind a bar on a terminal, printed as a plain line every
-// ~5% of the frames otherwise (log files and pipes get no carriage returns).
+// One status line on stderr, "frame 12/48  t=0.500s  steps/s 1234  ETA 0:35": rewritten in
+// place behind a bar on a terminal, printed as a plain line every ~5% of the frames otherwise
+// (log files and pipes get no carriage returns).
 class Progress {
-public:
+ public:
   Progress(bool enabled, int total_frames, int first_frame)
-      : enabled_(enabled), tty_(::isatty(STDERR_FILENO) != 0),
-        total_(total_frames), first_(first_frame), start_(Clock::now()) {}
+      : enabled_(enabled),
+        tty_(::isatty(STDERR_FILENO) != 0),
+        total_(total_frames),
+        first_(first_frame),
+        start_(Clock::now()) {}
 
   void update(int frame, double sim_time, long steps_done) {
-    if (!enabled_)
-      return;
-    const double wall =
-        std::chrono::duration<double>(Clock::now() - start_).count();
+    if (!enabled_) return;
+    const double wall = std::chrono::duration<double>(Clock::now() - start_).count();
     const int done = frame - first_;
     const double eta = done > 0 ? wall / done * (total_ - frame) : NAN;
     const double rate = wall > 0 ? double(steps_done) / wall : 0;
     char line[256];
-    std::snprintf(line, sizeof(line), "frame %d/%d  t=%s  steps/s %.0f  ETA %s",
-                  frame, total_, time_text(sim_time).c_str(), rate,
-                  clock_text(eta).c_str());
+    std::snprintf(line, sizeof(line), "frame %d/%d  t=%s  steps/s %.0f  ETA %s", frame, total_,
+                  time_text(sim_time).c_str(), rate, clock_text(eta).c_str());
     if (tty_) {
       constexpr int kWidth = 24;
-      const int filled =
-          total_ > 0 ? std::clamp(kWidth * frame / total_, 0, kWidth) : kWidth;
-      std::fprintf(stderr, "\r[%s%s] %s\033[K",
-                   std::string(size_t(filled), '#').c_str(),
+      const int filled = total_ > 0 ? std::clamp(kWidth * frame / total_, 0, kWidth) : kWidth;
+      std::fprintf(stderr, "\r[%s%s] %s\033[K", std::string(size_t(filled), '#').c_str(),
                    std::string(size_t(kWidth - filled), ' ').c_str(), line);
-      if (frame == total_)
-        std::fputc('\n', stderr);
+      if (frame == total_) std::fputc('\n', stderr);
     } else {
       const int every = std::max(1, total_ / 20);
-      if (frame == total_ || (frame - first_) % every == 0)
-        std::fprintf(stderr, "%s\n", line);
+      if (frame == total_ || (frame - first_) % every == 0) std::fprintf(stderr, "%s\n", line);
     }
     std::fflush(stderr);
   }
 
-private:
+ private:
   bool enabled_, tty_;
   int total_, first_;
   Clock::time_point start_;
 };
 
-Scene load(const std::string &path, std::vector<std::string> overrides,
-           int frames) {
-  if (frames >= 0)
-    overrides.push_back("time.frames=" + std::to_string(frames));
+Scene load(const std::string& path, std::vector<std::string> overrides, int frames) {
+  if (frames >= 0) overrides.push_back("time.frames=" + std::to_string(frames));
   return load_scene(path, overrides);
 }
 
 nlohmann::json without_frames(nlohmann::json j) {
-  if (j.contains("time") && j["time"].is_object())
-    j["time"].erase("frames");
+  if (j.contains("time") && j["time"].is_object()) j["time"].erase("frames");
   return j;
 }
 
 // The stats lines of an earlier run up to and including `frame`.
-std::vector<std::string> stats_up_to(const std::string &path, int frame) {
+std::vector<std::string> stats_up_to(const std::string& path, int frame) {
   std::vector<std::string> kept;
   std::istringstream in(read_file(path));
   std::string line;
   while (std::getline(in, line)) {
-    if (line.empty())
-      continue;
-    if (nlohmann::json::parse(line).at("frame").get<int>() <= frame)
-      kept.push_back(line);
+    if (line.empty()) continue;
+    if (nlohmann::json::parse(line).at("frame").get<int>() <= frame) kept.push_back(line);
   }
   return kept;
 }
 
 // The reason as one line on stderr ("tear: reason"); exit code 1.
 int fail(std::string why) {
-  for (char &c : why)
-    if (c == '\n' || c == '\r')
-      c = ' ';
+  for (char& c : why)
+    if (c == '\n' || c == '\r') c = ' ';
   std::fprintf(stderr, "tear: %s\n", why.c_str());
   return 1;
 }
 
 // "812 KiB", "3.4 MiB": sizes for people.
 std::string size_text(double bytes) {
-  const char *units[] = {"B", "KiB", "MiB", "GiB", "TiB"};
+  const char* units[] = {"B", "KiB", "MiB", "GiB", "TiB"};
   int u = 0;
-  while (bytes >= 1024 && u < 4)
-    bytes /= 1024, ++u;
+  while (bytes >= 1024 && u < 4) bytes /= 1024, ++u;
   char buf[32];
-  std::snprintf(buf, sizeof(buf),
-                u == 0 || bytes >= 100 ? "%.0f %s" : "%.1f %s", bytes,
-                units[u]);
+  std::snprintf(buf, sizeof(buf), u == 0 || bytes >= 100 ? "%.0f %s" : "%.1f %s", bytes, units[u]);
   return buf;
 }
 
-} // namespace
+}  // namespace
 
-int run_scene(const RunOptions &o) {
+int run_scene(const RunOptions& o) {
   try {
     std::unique_ptr<tbb::global_control> limit;
     if (o.threads > 0)
-      limit = std::make_unique<tbb::global_control>(
-          tbb::global_control::max_allowed_parallelism, size_t(o.threads));
+      limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                    size_t(o.threads));
     const Clock::time_point start = Clock::now();
-    // Everything that can be wrong with the input is found before anything is
-    // written.
+    // Everything that can be wrong with the input is found before anything is written.
     const Scene scene = load(o.scene_path, o.overrides, o.frames);
     std::unique_ptr<Simulation> sim = make_simulation(scene);
     const fs::path dir(o.out_dir);
     const std::string stats_path = (dir / "stats.jsonl").string();
-    const std::string checkpoint_path =
-        (dir / "checkpoints" / "latest.bin").string();
+    const std::string checkpoint_path = (dir / "checkpoints" / "latest.bin").string();
     std::vector<std::string> stats;
 
     if (o.resume) {
       const std::string old_scene = (dir / "scene.json").string();
-      if (!fs::exists(old_scene))
-        return fail(old_scene + ": no earlier run to resume");
+      if (!fs::exists(old_scene)) return fail(old_scene + ": no earlier run to resume");
       if (without_frames(nlohmann::json::parse(read_file(old_scene))) !=
           without_frames(scene.resolved))
         return fail(old_scene + ": scene differs from " + o.scene_path +
-                    " (only time.frames may change); run without --resume into "
-                    "a fresh folder");
+                    " (only time.frames may change); run without --resume into a fresh folder");
       try {
         sim->decode_checkpoint(read_file(checkpoint_path));
-      } catch (const std::exception &e) {
+      } catch (const std::exception& e) {
         return fail(checkpoint_path + ": " + e.what());
       }
       if (sim->frame() >= scene.frames) {
-        std::printf("%s: already complete (%d frames)\n", o.out_dir.c_str(),
-                    sim->frame());
+        std::printf("%s: already complete (%d frames)\n", o.out_dir.c_str(), sim->frame());
         return 0;
       }
-      if (!fs::exists(stats_path))
-        return fail(stats_path + ": missing; cannot resume");
+      if (!fs::exists(stats_path)) return fail(stats_path + ": missing; cannot resume");
       stats = stats_up_to(stats_path, sim->frame());
       // Record the new frame count; everything else was checked to be equal.
       write_file_atomic(old_scene, scene.resolved.dump(2) + "\n");
       if (!o.quiet)
-        std::fprintf(stderr, "resuming %s at frame %d (t = %g s)\n",
-                     o.out_dir.c_str(), sim->frame(), sim->time());
+        std::fprintf(stderr, "resuming %s at frame %d (t = %g s)\n", o.out_dir.c_str(),
+                     sim->frame(), sim->time());
     } else {
-      // A fresh run owns scene.json, stats.jsonl, frames/ and checkpoints/ in
-      // the folder.
+      // A fresh run owns scene.json, stats.jsonl, frames/ and checkpoints/ in the folder.
       fs::remove_all(dir / "frames");
       fs::remove_all(dir / "checkpoints");
       make_directories((dir / "frames").string());
-      write_file_atomic((dir / "scene.json").string(),
-                        scene.resolved.dump(2) + "\n");
+      write_file_atomic((dir / "scene.json").string(), scene.resolved.dump(2) + "\n");
       write_frame(o.out_dir, 0, *sim, scene.formats);
       FrameStats s = sim->collect_stats();
       stats.push_back(s.to_json().dump());
@@ -224,18 +200,15 @@ int run_scene(const RunOptions &o) {
       FrameStats s = sim->collect_stats();
       s.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
       if (!std::isfinite(s.kinetic_energy) || !std::isfinite(s.momentum.norm()))
-        return fail("the simulation became unstable at frame " +
-                    std::to_string(frame) +
+        return fail("the simulation became unstable at frame " + std::to_string(frame) +
                     " (non-finite velocities); lower time.cfl or time.max_dt");
       if (s.cg_unconverged > 0 && !warned_cg) {
-        std::fprintf(
-            stderr,
-            "tear: warning: frame %d: %ld implicit damage solve(s) stopped at "
-            "damage.cg_max_iterations = %d with residual %.3g > "
-            "damage.cg_tolerance "
-            "%.3g (stats.jsonl: cg_unconverged, residual); shown once\n",
-            frame, s.cg_unconverged, scene.damage.cg_max_iterations, s.residual,
-            scene.damage.cg_tolerance);
+        std::fprintf(stderr,
+                     "tear: warning: frame %d: %ld implicit damage solve(s) stopped at "
+                     "damage.cg_max_iterations = %d with residual %.3g > damage.cg_tolerance "
+                     "%.3g (stats.jsonl: cg_unconverged, residual); shown once\n",
+                     frame, s.cg_unconverged, scene.damage.cg_max_iterations, s.residual,
+                     scene.damage.cg_tolerance);
         warned_cg = true;
       }
       if (frame % scene.output_every == 0 || frame == scene.frames)
@@ -247,91 +220,76 @@ int run_scene(const RunOptions &o) {
         write_file_atomic(checkpoint_path, sim->encode_checkpoint());
       progress.update(frame, sim->time(), sim->total_steps() - steps_before);
     }
-    const double wall =
-        std::chrono::duration<double>(Clock::now() - start).count();
-    std::printf("wrote %d frames (%zu particles, %ld steps) to %s in %.1f s\n",
-                scene.frames, sim->num_particles(), sim->total_steps(),
-                o.out_dir.c_str(), wall);
+    const double wall = std::chrono::duration<double>(Clock::now() - start).count();
+    std::printf("wrote %d frames (%zu particles, %ld steps) to %s in %.1f s\n", scene.frames,
+                sim->num_particles(), sim->total_steps(), o.out_dir.c_str(), wall);
     return 0;
-  } catch (const std::exception &e) {
+  } catch (const std::exception& e) {
     return fail(e.what());
   } catch (...) {
     return fail("unknown error");
   }
 }
 
-int check_scene(const std::string &scene_path,
-                const std::vector<std::string> &overrides, std::ostream &out) {
+int check_scene(const std::string& scene_path, const std::vector<std::string>& overrides,
+                std::ostream& out) {
   try {
     const Scene s = load_scene(scene_path, overrides);
     std::unique_ptr<Simulation> sim = make_simulation(s);
-    out << "scene      " << scene_path << " (\"" << s.name << "\", " << s.dim
-        << "D)\n";
-    out << "grid       dx " << s.dx << ", domain ["
-        << s.domain_min.head(s.dim).transpose() << "] .. ["
-        << s.domain_max.head(s.dim).transpose() << "], cells";
+    out << "scene      " << scene_path << " (\"" << s.name << "\", " << s.dim << "D)\n";
+    out << "grid       dx " << s.dx << ", domain [" << s.domain_min.head(s.dim).transpose()
+        << "] .. [" << s.domain_max.head(s.dim).transpose() << "], cells";
     for (int d = 0; d < s.dim; ++d)
-      out << (d ? " x " : " ")
-          << std::lround((s.domain_max[d] - s.domain_min[d]) / s.dx);
+      out << (d ? " x " : " ") << std::lround((s.domain_max[d] - s.domain_min[d]) / s.dx);
     out << "\n";
-    for (const MaterialSpec &m : s.materials) {
-      const MaterialParams &p = m.params;
-      out << "material   " << m.name << ": " << model_name(p.model) << ", E "
-          << p.E << ", nu " << p.nu << ", rho " << p.rho << " -> mu " << p.mu
-          << ", lambda " << p.lambda;
+    for (const MaterialSpec& m : s.materials) {
+      const MaterialParams& p = m.params;
+      out << "material   " << m.name << ": " << model_name(p.model) << ", E " << p.E << ", nu "
+          << p.nu << ", rho " << p.rho << " -> mu " << p.mu << ", lambda " << p.lambda;
       if (p.kx != 0 || p.ky != 0) {
         out << ", kx " << p.kx;
-        if (s.dim == 3)
-          out << ", ky " << p.ky;
+        if (s.dim == 3) out << ", ky " << p.ky;
       }
-      out << ", wave speed " << wave_speed(p)
-          << (m.damage.enabled ? ", damage" : "") << "\n";
+      out << ", wave speed " << wave_speed(p) << (m.damage.enabled ? ", damage" : "") << "\n";
     }
-    const nlohmann::json &objects = s.resolved.at("objects");
+    const nlohmann::json& objects = s.resolved.at("objects");
     for (size_t i = 0; i < s.objects.size(); ++i) {
-      const ObjectSpec &ob = s.objects[i];
-      out << "object     " << i << ": "
-          << objects.at(i).at("shape").at("type").get<std::string>()
-          << ", material " << s.materials[size_t(ob.material)].name << ", "
-          << ob.ppc << " particles per cell"
-          << (ob.grid_sampling ? " (lattice)" : "") << "\n";
+      const ObjectSpec& ob = s.objects[i];
+      out << "object     " << i << ": " << objects.at(i).at("shape").at("type").get<std::string>()
+          << ", material " << s.materials[size_t(ob.material)].name << ", " << ob.ppc
+          << " particles per cell" << (ob.grid_sampling ? " (lattice)" : "") << "\n";
     }
-    out << "boundaries walls "
-        << s.resolved.at("grid").at("walls").get<std::string>() << ", "
+    out << "boundaries walls " << s.resolved.at("grid").at("walls").get<std::string>() << ", "
         << s.boundaries.size() << " collider(s)";
-    const nlohmann::json &colliders = s.resolved.at("boundaries");
+    const nlohmann::json& colliders = s.resolved.at("boundaries");
     for (size_t i = 0; i < colliders.size(); ++i)
-      out << (i ? ", " : ": ") << colliders[i].at("type").get<std::string>()
-          << " " << colliders[i].at("shape").at("type").get<std::string>();
+      out << (i ? ", " : ": ") << colliders[i].at("type").get<std::string>() << " "
+          << colliders[i].at("shape").at("type").get<std::string>();
     out << "\n";
     const double dt = sim->estimate_dt();
     const PointTable table = sim->frame_table();
     size_t frame_bytes = 0;
-    for (const std::string &f : s.formats)
-      frame_bytes += encode_points(table, f).size();
+    for (const std::string& f : s.formats) frame_bytes += encode_points(table, f).size();
     const size_t checkpoint = sim->encode_checkpoint().size();
     // Frame 0, every output_every-th frame, and the last frame.
-    const int written = 1 + s.frames / s.output_every +
-                        (s.frames % s.output_every != 0 ? 1 : 0);
+    const int written = 1 + s.frames / s.output_every + (s.frames % s.output_every != 0 ? 1 : 0);
     out << "particles  " << sim->num_particles() << "\n";
-    out << "time       " << s.frames << " frames of " << s.frame_dt << " s; dt "
-        << dt << " s at rest (about " << std::lround(std::ceil(s.frame_dt / dt))
+    out << "time       " << s.frames << " frames of " << s.frame_dt << " s; dt " << dt
+        << " s at rest (about " << std::lround(std::ceil(s.frame_dt / dt))
         << " steps per frame)\n";
-    out << "memory     about " << size_text(double(sim->memory_bytes()))
-        << "\n";
-    out << "output     " << written << " frames of "
-        << size_text(double(frame_bytes)) << " ("
+    out << "memory     about " << size_text(double(sim->memory_bytes())) << "\n";
+    out << "output     " << written << " frames of " << size_text(double(frame_bytes)) << " ("
         << size_text(double(frame_bytes) * written) << "), checkpoint "
         << size_text(double(checkpoint)) << "\n";
     return 0;
-  } catch (const std::exception &e) {
+  } catch (const std::exception& e) {
     return fail(e.what());
   } catch (...) {
     return fail("unknown error");
   }
 }
 
-void print_info(std::ostream &out) {
+void print_info(std::ostream& out) {
   out << "tear " << TEAR_VERSION << "\n";
 #ifdef TEAR_FLOAT
   out << "precision   float\n";
@@ -344,11 +302,10 @@ void print_info(std::ostream &out) {
   out << "asserts     off\n";
 #endif
   out << "compiler    " << __VERSION__ << "\n";
-  out << "eigen       " << EIGEN_WORLD_VERSION << "." << EIGEN_MAJOR_VERSION
-      << "." << EIGEN_MINOR_VERSION << "\n";
-  out << "onetbb      " << TBB_VERSION_MAJOR << "." << TBB_VERSION_MINOR
-      << "\n";
+  out << "eigen       " << EIGEN_WORLD_VERSION << "." << EIGEN_MAJOR_VERSION << "."
+      << EIGEN_MINOR_VERSION << "\n";
+  out << "onetbb      " << TBB_VERSION_MAJOR << "." << TBB_VERSION_MINOR << "\n";
   out << "threads     " << tbb::info::default_concurrency() << " available\n";
 }
 
-} // namespace tear
+}  // namespace tear

@@ -3,10 +3,10 @@
 // mesh` and `tear render` read.
 #pragma once
 
-#include "tear/io/point_table.h"
-
 #include <string>
 #include <vector>
+
+#include "tear/io/point_table.h"
 
 namespace tear {
 
@@ -16,13 +16,12 @@ namespace tear {
 const std::vector<std::string> &point_formats();
 
 // DIR/frames/NNNNN.EXT (five digits at least, as the run writes them).
-std::string frame_path(const std::string &dir, int frame,
-                       const std::string &format);
+std::string frame_path(const std::string &dir, int frame, const std::string &format);
 
 struct FrameFile {
   int frame = 0;
-  std::string path;   // DIR/frames/NNNNN.EXT
-  std::string format; // one of point_formats()
+  std::string path;    // DIR/frames/NNNNN.EXT
+  std::string format;  // one of point_formats()
 };
 
 // Frames in DIR/frames, one per frame number (preferring the earlier of
@@ -35,10 +34,8 @@ std::vector<FrameFile> list_frames(const std::string &dir);
 // "" (all).
 struct FrameRange {
   int first = 0;
-  int last = -1; // -1: no upper limit
-  bool contains(int frame) const {
-    return frame >= first && (last < 0 || frame <= last);
-  }
+  int last = -1;  // -1: no upper limit
+  bool contains(int frame) const { return frame >= first && (last < 0 || frame <= last); }
 };
 // Throws std::runtime_error quoting `text` and the expected form when it does
 // not parse.
@@ -50,4 +47,4 @@ PointTable read_frame(const std::string &path);
 // Encode a table in `format` (one of point_formats()).
 std::string encode_points(const PointTable &table, const std::string &format);
 
-} // namespace tear
+}  // namespace tear

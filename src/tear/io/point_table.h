@@ -19,11 +19,10 @@ struct PointTable {
   std::vector<std::vector<double>> columns;
 
   // Append a column; `values.size()` must equal `count`.
-  void add(const std::string &name, ColumnType type,
-           std::vector<double> values);
+  void add(const std::string &name, ColumnType type, std::vector<double> values);
   bool has(const std::string &name) const;
   // Throws std::runtime_error if absent.
   const std::vector<double> &column(const std::string &name) const;
 };
 
-} // namespace tear
+}  // namespace tear
