@@ -114,12 +114,13 @@ namespace {
 // |a_k|^2] (each alpha_k b_k b_k^T is semi-definite with trace alpha_k |a_k|^2; R keeps lengths).
 template <int Dim>
 Real phi_of_particle(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D,
-                     const Real alpha[2], Real sigma_c, bool excess) {
+                     const Real alpha[2], Real sigma_c, bool excess, Mat<Dim>* piola) {
+  const Mat<Dim> P = first_piola<Dim>(m, F, D);
+  if (piola) *piola = P;
   const Real J = F.determinant();
   if (J <= 0) return 0;
   const Real inv_sc2 = 1 / (sigma_c * sigma_c);
   const bool fibers = alpha[0] != 0 || alpha[1] != 0;
-  const Mat<Dim> P = first_piola<Dim>(m, F, D);
   Mat<Dim> cauchy;  // P F^T / J, symmetric: the lower triangle, mirrored
   const Real inv_J = 1 / J;
   for (int i = 0; i < Dim; ++i)
@@ -158,13 +159,13 @@ Real phi_of_particle(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>&
 template <int Dim>
 Real particle_phi(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D,
                   const Real alpha[2], Real sigma_c) {
-  return phi_of_particle<Dim>(m, F, D, alpha, sigma_c, false);
+  return phi_of_particle<Dim>(m, F, D, alpha, sigma_c, false, nullptr);
 }
 
 template <int Dim>
 Real particle_phi_excess(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D,
-                         const Real alpha[2], Real sigma_c) {
-  return phi_of_particle<Dim>(m, F, D, alpha, sigma_c, true);
+                         const Real alpha[2], Real sigma_c, Mat<Dim>* piola) {
+  return phi_of_particle<Dim>(m, F, D, alpha, sigma_c, true, piola);
 }
 
 template Mat<2> tensile_part<2>(const Mat<2>&);
@@ -178,8 +179,8 @@ template Real particle_phi<2>(const MaterialParams&, const Mat<2>&, const Mat<2>
 template Real particle_phi<3>(const MaterialParams&, const Mat<3>&, const Mat<3>&, const Real[2],
                               Real);
 template Real particle_phi_excess<2>(const MaterialParams&, const Mat<2>&, const Mat<2>&,
-                                     const Real[2], Real);
+                                     const Real[2], Real, Mat<2>*);
 template Real particle_phi_excess<3>(const MaterialParams&, const Mat<3>&, const Mat<3>&,
-                                     const Real[2], Real);
+                                     const Real[2], Real, Mat<3>*);
 
 }  // namespace tear

@@ -34,9 +34,10 @@ Real particle_phi(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D,
                   const Real alpha[2], Real sigma_c);
 
 // max(Phi - 1, 0), the particle's drive before the slope zeta: the value particle_phi gives,
-// but skipping the tensile part and the rotation when a bound shows Phi <= 1.
+// but skipping the tensile part and the rotation when a bound shows Phi <= 1. When `piola` is
+// given it receives the undegraded first_piola(m, F, D) computed on the way (bit for bit).
 template <int Dim>
 Real particle_phi_excess(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D,
-                         const Real alpha[2], Real sigma_c);
+                         const Real alpha[2], Real sigma_c, Mat<Dim>* piola = nullptr);
 
 }  // namespace tear

@@ -42,12 +42,14 @@ void MpmSolver<Dim>::damage_update(Real dt) {
 template <int Dim>
 void MpmSolver<Dim>::update_driving_force() {
   const Real zeta = Real(scene_.damage.zeta);
+  piola_.resize(p_.size());
+  piola_fresh_ = true;
   tbb::parallel_for(size_t(0), p_.size(), [&](size_t p) {
     const DamageSpec& ds = damage_[p_.material[p]];
     if (!ds.enabled) return;
     const Real alpha[2] = {Real(ds.alpha[0]), Real(ds.alpha[1])};
     const Real excess = particle_phi_excess<Dim>(mats_[p_.material[p]], p_.F[p], p_.fiber[p],
-                                                 alpha, Real(ds.sigma_c));
+                                                 alpha, Real(ds.sigma_c), &piola_[p]);
     p_.drive[p] = std::max(p_.drive[p], zeta * excess);
   });
 }

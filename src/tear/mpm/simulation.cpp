@@ -250,7 +250,13 @@ class MpmSimulation final : public Simulation {
   }
 
   size_t memory_bytes() const override {
-    return solver_.particles().size() * Particles<Dim>::bytes_per_particle() +
+    // Damage keeps each particle's undegraded stress for P2G (and, implicit, a coefficient).
+    const DamageSolver ds = solver_.scene().damage.solver;
+    const size_t damage_bytes = ds == DamageSolver::None ? 0
+                                : ds == DamageSolver::Explicit
+                                    ? sizeof(Mat<Dim>)
+                                    : sizeof(Mat<Dim>) + sizeof(Real);
+    return solver_.particles().size() * (Particles<Dim>::bytes_per_particle() + damage_bytes) +
            solver_.grid().memory_bytes();
   }
 

@@ -103,7 +103,10 @@ void MpmSolver<Dim>::p2g(Real dt) {
         const uint32_t p = order[k];
         const Mat<Dim>& F = p_.F[p];
         const MaterialParams& mat = mats_[p_.material[p]];
-        const Mat<Dim> P = first_piola<Dim>(mat, F, p_.fiber[p], degradation_of(p));
+        // Undamaged particles (g = 1) reuse the driving force's stress of this step.
+        const Mat<Dim> P = piola_fresh_ && damage_[p_.material[p]].enabled && p_.damage[p] == 0
+                               ? piola_[p]
+                               : first_piola<Dim>(mat, F, p_.fiber[p], degradation_of(p));
         // MLS-MPM: the stress enters as an affine momentum term (Hu et al. 2018, Eq. 29).
         Mat<Dim> affine = (-dt * p_.vol0[p] * inv_d) * (P * F.transpose());
         const Real m = p_.mass[p];
@@ -180,6 +183,7 @@ void MpmSolver<Dim>::step(double dt) {
   }
   t0 = Clock::now();
   p2g(Real(dt));
+  piola_fresh_ = false;
   times_.p2g += seconds_since(t0);
   t0 = Clock::now();
   grid_update(Real(dt));

@@ -104,6 +104,10 @@ class MpmSolver {
   // Implicit damage scratch: per-node fields, per-particle Laplacian coefficients, CG vectors.
   std::vector<Real> implicit_fields_[6];
   std::vector<Real> laplace_coef_, rhs_, inv_diag_, solution_;
+  // Undegraded first Piola stress of the damageable particles, from this step's driving force
+  // (piola_fresh_ until P2G has used it): P2G reuses it for the particles still undamaged.
+  std::vector<Mat<Dim>> piola_;
+  bool piola_fresh_ = false;
 };
 
 }  // namespace tear
