@@ -153,10 +153,8 @@ void MpmSolver<Dim>::damage_implicit(Real dt) {
   const size_t nodes = grid_.num_active_nodes();
   const Real l2 = Real(scene_.damage.l0 * scene_.damage.l0);
   const Real inv_m = Real(kCubicInvD / (scene_.dx * scene_.dx));
-  // Per node: weight sum, weighted damage, A, the D part of c, sum V w, diagonal of B.
-  enum { kW, kWd, kA, kCd, kVw, kBd, kFields };
-  for (auto& f : implicit_fields_) f.assign(nodes, Real(0));
-  std::vector<Real>* f = implicit_fields_;
+  std::vector<ImplicitNodeSums>& f = implicit_sums_;
+  f.assign(nodes, ImplicitNodeSums{});
   laplace_coef_.resize(p_.size());
   for_active_particles_coloured(grid_, active, [&](uint32_t p) {
     const DamageSpec& ds = damage_[p_.material[p]];
@@ -168,12 +166,13 @@ void MpmSolver<Dim>::damage_implicit(Real dt) {
     const Real lc = laplace_coef_[p];
     Stencil<Dim, kDamageOrder>(grid_, p_.x[p]).visit([&](int i, Real w,
                                                                   const Vec<Dim>& rel) {
-      f[kW][i] += w;
-      f[kWd][i] += w * d;
-      f[kA][i] += a * w;
-      f[kCd][i] += cd * w;
-      f[kVw][i] += V * w;
-      f[kBd][i] += lc * w * w * rel.squaredNorm();
+      ImplicitNodeSums& n = f[i];
+      n.w += w;
+      n.wd += w * d;
+      n.a += a * w;
+      n.cd += cd * w;
+      n.vw += V * w;
+      n.bd += lc * w * w * rel.squaredNorm();
     });
   });
   // d_i^n (kept in grid_.scalar for the FLIP transfer), right-hand side, preconditioner.
@@ -183,16 +182,17 @@ void MpmSolver<Dim>::damage_implicit(Real dt) {
   inv_diag_.assign(nodes, Real(0));
   solution_.assign(nodes, Real(0));
   tbb::parallel_for(size_t(0), nodes, [&](size_t i) {
-    if (!(f[kW][i] > 0)) return;
-    dn[i] = f[kWd][i] / f[kW][i];
-    rhs_[i] = f[kCd][i] + dn[i] * f[kVw][i];
-    inv_diag_[i] = 1 / (f[kA][i] + f[kBd][i]);
+    const ImplicitNodeSums& n = f[i];
+    if (!(n.w > 0)) return;
+    dn[i] = n.wd / n.w;
+    rhs_[i] = n.cd + dn[i] * n.vw;
+    inv_diag_[i] = 1 / (n.a + n.bd);
     solution_[i] = dn[i];
   });
   // (A + B) x, matrix-free: B x = sum_p c_p gradW_i . (sum_j gradW_j x_j), gathered and
   // scattered per particle (gradW = w (x_i - x_p); c_p = V k l0^2 M^-2 holds the rest).
   auto apply = [&](const std::vector<Real>& x, std::vector<Real>& y) {
-    tbb::parallel_for(size_t(0), nodes, [&](size_t i) { y[i] = f[kA][i] * x[i]; });
+    tbb::parallel_for(size_t(0), nodes, [&](size_t i) { y[i] = f[i].a * x[i]; });
     for_active_particles_coloured(grid_, active, [&](uint32_t p) {
       if (!damage_[p_.material[p]].enabled) return;
       const Stencil<Dim, kDamageOrder> st(grid_, p_.x[p]);

@@ -101,8 +101,13 @@ class MpmSolver {
   long steps_ = 0;
   PhaseTimes times_;
   DamageSolveStats damage_stats_;
-  // Implicit damage scratch: per-node fields, per-particle Laplacian coefficients, CG vectors.
-  std::vector<Real> implicit_fields_[6];
+  // Implicit damage scratch: per-node sums, per-particle Laplacian coefficients, CG vectors.
+  struct ImplicitNodeSums {  // per node, together: one cache line per node in the scatter
+    Real w = 0, wd = 0;        // weight sum, weighted damage
+    Real a = 0, cd = 0;        // A, the D part of c
+    Real vw = 0, bd = 0;       // sum V w, diagonal of B
+  };
+  std::vector<ImplicitNodeSums> implicit_sums_;
   std::vector<Real> laplace_coef_, rhs_, inv_diag_, solution_;
   // Undegraded first Piola stress of the damageable particles, from this step's driving force
   // (piola_fresh_ until P2G has used it): P2G reuses it for the particles still undamaged.
