@@ -4,6 +4,8 @@
 #include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <limits>
+#include <utility>
 
 namespace tear {
 
@@ -41,6 +43,27 @@ void apply_boundaries(SparseGrid<Dim>& grid, WallType walls,
                       const std::vector<BoundarySpec>& boundaries, double time) {
   std::vector<ColliderState> states;
   for (const BoundarySpec& b : boundaries) states.push_back(collider_state(b, time));
+  // World boxes around the moved colliders: nodes outside skip the signed distance (the boxes
+  // are a little larger than the shapes, so no node inside is skipped; half-spaces: no box).
+  std::vector<std::pair<Vec3d, Vec3d>> boxes;
+  for (size_t c = 0; c < boundaries.size(); ++c) {
+    Vec3d lo = Vec3d::Constant(-std::numeric_limits<double>::infinity()), hi = -lo;
+    if (boundaries[c].shape.type != Shape::Type::HalfSpace) {
+      Vec3d rest_lo, rest_hi;
+      boundaries[c].shape.bounds(&rest_lo, &rest_hi);
+      const ColliderState& st = states[c];
+      std::swap(lo, hi);
+      for (int k = 0; k < 8; ++k) {
+        const Vec3d corner((k & 1) ? rest_hi.x() : rest_lo.x(), (k & 2) ? rest_hi.y() : rest_lo.y(),
+                           (k & 4) ? rest_hi.z() : rest_lo.z());
+        const Vec3d w = st.center0 + st.displacement + st.rotation * (corner - st.center0);
+        lo = lo.cwiseMin(w), hi = hi.cwiseMax(w);
+      }
+      const double pad = 1e-9 * (1 + (hi - lo).cwiseAbs().maxCoeff());
+      lo.array() -= pad, hi.array() += pad;
+    }
+    boxes.emplace_back(lo, hi);
+  }
   const IVec<Dim> n_nodes = grid.num_nodes();
   const int blocks = grid.num_blocks();
   tbb::parallel_for(0, blocks, [&](int blk) {
@@ -65,6 +88,8 @@ void apply_boundaries(SparseGrid<Dim>& grid, WallType walls,
       for (size_t c = 0; c < boundaries.size(); ++c) {
         const ColliderState& s = states[c];
         if (!s.active) continue;
+        if ((p.array() < boxes[c].first.array()).any() || (p.array() > boxes[c].second.array()).any())
+          continue;
         const BoundarySpec& b = boundaries[c];
         const Vec3d centre = s.center0 + s.displacement;
         const Vec3d q = s.center0 + s.rotation.transpose() * (p - centre);
