@@ -94,6 +94,36 @@ TEST(Materials, DegradedQrStressIsTheDegradedEnergyGradient) {
   expect_stress_is_energy_gradient<3>(Model::QrAniso, 0.0);
 }
 
+// degrade_qr_stress turns the undegraded stress into the degraded one without a QR; it must
+// agree with first_piola(..., g) in tension and compression, for any fiber frame and g.
+template <int Dim>
+void expect_degrade_qr_stress_matches() {
+  std::mt19937_64 rng(12);
+  const MaterialParams m = make_material(Model::QrAniso, 1000, 0.3, 1, 10, 5);
+  int tension = 0, compression = 0;
+  for (int k = 0; k < 200; ++k) {
+    const Mat<Dim> D = random_rotation<Dim>(rng);
+    const Mat<Dim> F = Mat<Dim>::Identity() + random_matrix<Dim>(rng, 0.4);
+    const Real J = F.determinant();
+    if (J <= 0) continue;
+    (J >= 1 ? tension : compression) += 1;
+    const Mat<Dim> P = first_piola<Dim>(m, F, D);
+    for (Real g : {0.0, 1e-3, 0.3, 1.0}) {
+      const Mat<Dim> expected = first_piola<Dim>(m, F, D, g);
+      EXPECT_LT((degrade_qr_stress<Dim>(m, F, P, g) - expected).norm(),
+                1e-12 * (m.E + expected.norm()))
+          << "g " << g << " J " << J;
+    }
+  }
+  EXPECT_GT(tension, 30);
+  EXPECT_GT(compression, 30);
+}
+
+TEST(QrAniso, DegradingTheStoredStressEqualsTheDegradedStress) {
+  expect_degrade_qr_stress_matches<2>();
+  expect_degrade_qr_stress_matches<3>();
+}
+
 template <int Dim>
 void expect_rest_and_rotation_are_stress_free() {
   std::mt19937_64 rng(5);

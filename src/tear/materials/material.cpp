@@ -210,6 +210,16 @@ Mat<Dim> first_piola(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>&
   return Mat<Dim>::Zero();
 }
 
+template <int Dim>
+Mat<Dim> degrade_qr_stress(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& P, Real g) {
+  const Real J = F.determinant();
+  const Real d_mu = (g - 1) * m.mu, d_lambda = J >= 1 ? (g - 1) * m.lambda : Real(0);
+  const Mat<Dim> cof = cofactor<Dim>(F);
+  return P + d_mu * (F - cof) + (d_lambda * (J - 1)) * cof;
+}
+
+template Mat<2> degrade_qr_stress<2>(const MaterialParams&, const Mat<2>&, const Mat<2>&, Real);
+template Mat<3> degrade_qr_stress<3>(const MaterialParams&, const Mat<3>&, const Mat<3>&, Real);
 template Real energy_density<2>(const MaterialParams&, const Mat<2>&, const Mat<2>&, Real);
 template Real energy_density<3>(const MaterialParams&, const Mat<3>&, const Mat<3>&, Real);
 template Mat<2> first_piola<2>(const MaterialParams&, const Mat<2>&, const Mat<2>&, Real);

@@ -46,4 +46,11 @@ Real energy_density(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& 
 template <int Dim>
 Mat<Dim> first_piola(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D, Real g = 1);
 
+// qr_aniso: first_piola(m, F, D, g) from the undegraded first_piola(m, F, D) = P, without the
+// QR: g changes only mu and lambda, and the terms they multiply are, for an orthonormal
+// right-handed D and det F > 0 (Q cof R D^T = cof(F D) D^T = cof F),
+//   P_g = P + (g - 1) mu (F - cof F) + [J >= 1] (g - 1) lambda (J - 1) cof F.
+template <int Dim>
+Mat<Dim> degrade_qr_stress(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& P, Real g);
+
 }  // namespace tear

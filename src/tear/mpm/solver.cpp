@@ -89,6 +89,18 @@ Real MpmSolver<Dim>::degradation_of(size_t p) const {
 }
 
 template <int Dim>
+Mat<Dim> MpmSolver<Dim>::stress_for_p2g(size_t p) const {
+  const MaterialParams& mat = mats_[p_.material[p]];
+  const Mat<Dim>& F = p_.F[p];
+  // Damageable particles (qr_aniso only: the scene refuses damage on other models) reuse the
+  // undegraded stress of this step's driving force, degraded without a second QR.
+  if (piola_fresh_ && damage_[p_.material[p]].enabled && F.determinant() > 0)
+    return p_.damage[p] == 0 ? piola_[p]
+                             : degrade_qr_stress<Dim>(mat, F, piola_[p], degradation_of(p));
+  return first_piola<Dim>(mat, F, p_.fiber[p], degradation_of(p));
+}
+
+template <int Dim>
 void MpmSolver<Dim>::p2g(Real dt) {
   const Real inv_d = BSpline1D<kOrder>::kInvD / Real(scene_.dx * scene_.dx);
   const bool apic = scene_.transfer == Transfer::Apic;
@@ -102,11 +114,7 @@ void MpmSolver<Dim>::p2g(Real dt) {
       for (uint32_t k = h.begin; k < h.end; ++k) {
         const uint32_t p = order[k];
         const Mat<Dim>& F = p_.F[p];
-        const MaterialParams& mat = mats_[p_.material[p]];
-        // Undamaged particles (g = 1) reuse the driving force's stress of this step.
-        const Mat<Dim> P = piola_fresh_ && damage_[p_.material[p]].enabled && p_.damage[p] == 0
-                               ? piola_[p]
-                               : first_piola<Dim>(mat, F, p_.fiber[p], degradation_of(p));
+        const Mat<Dim> P = stress_for_p2g(p);
         // MLS-MPM: the stress enters as an affine momentum term (Hu et al. 2018, Eq. 29).
         Mat<Dim> affine = (-dt * p_.vol0[p] * inv_d) * (P * F.transpose());
         const Real m = p_.mass[p];

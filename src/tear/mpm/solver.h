@@ -85,6 +85,8 @@ class MpmSolver {
   void damage_implicit(Real dt);
   // g(d) of particle p: 1 for materials without damage.
   Real degradation_of(size_t p) const;
+  // The (degraded) first Piola stress of particle p that P2G spreads.
+  Mat<Dim> stress_for_p2g(size_t p) const;
   void p2g(Real dt);
   void grid_update(Real dt);
   void g2p(Real dt);
