@@ -241,6 +241,22 @@ json tearing_scene() {
   })");
 }
 
+// check prints where the damageable material starts to crack: across the fibers first.
+TEST_F(Cli, CheckPrintsTheCrackOnsetStretch) {
+  const std::string s = write_scene(tearing_scene());
+  ASSERT_EQ(tear("check " + s), 0) << err_;
+  const std::string key = "cracks start at a uniaxial stretch of ";
+  const size_t at = out_.find(key);
+  ASSERT_NE(at, std::string::npos) << out_;
+  std::istringstream line(out_.substr(at + key.size()));
+  double across = 0, along = 0;
+  std::string word;
+  line >> across >> word >> word >> word >> along;
+  EXPECT_GT(across, 1.0) << out_;
+  EXPECT_LT(across, 1.2) << out_;  // sigma_c 3 against moduli ~40: a few percent
+  EXPECT_GT(along, across) << out_;
+}
+
 TEST_F(Cli, ImplicitDamageRecordsCgFiguresAndResumesBitIdentically) {
   const std::string s = write_scene(tearing_scene());
   ASSERT_EQ(tear("run " + s + " -o " + path("full") + " -q"), 0) << err_;

@@ -266,3 +266,54 @@ TEST(DrivingForce, ParticleStretchedAcrossItsFibersTearsAlongThemDoesNot) {
 
 }  // namespace
 }  // namespace tear
+
+namespace tear {
+namespace {
+
+// Small uniaxial strain e along n of an isotropic material: with the Lame parameters of E and
+// nu (L = E nu / ((1 + nu)(1 - 2 nu)), mu), sigma = diag(L + 2 mu, L, ...) e, all tensile, so
+// Phi = ((L + 2 mu)^2 + (d - 1) L^2) e^2 / sigma_c^2. (The QR model's own lambda is L + mu.)
+template <int Dim>
+void check_crack_onset_isotropic() {
+  const double E = 1000, nu = 0.3;
+  const MaterialParams m = make_material(Model::QrAniso, E, nu, 1);
+  const Real L = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
+  const Real alpha[2] = {0, 0};
+  const Real sigma_c = 1;
+  const Real expected =
+      sigma_c / std::sqrt((L + 2 * mu) * (L + 2 * mu) + (Dim - 1) * L * L);
+  const Real stretch = crack_onset_stretch<Dim>(m, Mat<Dim>::Identity(), alpha, sigma_c,
+                                                Vec<Dim>::Unit(0));
+  EXPECT_NEAR(stretch - 1, expected, 0.01 * expected);
+  EXPECT_GT(crack_onset_stretch<Dim>(m, Mat<Dim>::Identity(), alpha, 4 * sigma_c,
+                                     Vec<Dim>::Unit(0)),
+            stretch);
+  EXPECT_TRUE(std::isinf(crack_onset_stretch<Dim>(m, Mat<Dim>::Identity(), alpha, 1e9,
+                                                  Vec<Dim>::Unit(0))));
+}
+
+TEST(CrackOnset, IsotropicSmallStrainMatchesLinearElasticity2D) {
+  check_crack_onset_isotropic<2>();
+}
+TEST(CrackOnset, IsotropicSmallStrainMatchesLinearElasticity3D) {
+  check_crack_onset_isotropic<3>();
+}
+
+// With alpha = -1 for fibers along x, pulling across them cracks sooner than along them.
+TEST(CrackOnset, AcrossTheFibersBeforeAlongThem) {
+  const MaterialParams m = make_material(Model::QrAniso, 100, 0.25, 2, 50);
+  const Real alpha[2] = {-1, 0};
+  const Real across =
+      crack_onset_stretch<2>(m, Mat<2>::Identity(), alpha, 30, Vec<2>::Unit(1));
+  const Real along = crack_onset_stretch<2>(m, Mat<2>::Identity(), alpha, 30, Vec<2>::Unit(0));
+  EXPECT_GT(across, 1);
+  EXPECT_GT(along, across);
+  // At the onset Phi is 1.
+  EXPECT_NEAR(particle_phi<2>(m, Mat<2>::Identity() + (across - 1) * Vec<2>::Unit(1) *
+                                                          Vec<2>::Unit(1).transpose(),
+                              Mat<2>::Identity(), alpha, 30),
+              1, 1e-9);
+}
+
+}  // namespace
+}  // namespace tear

@@ -168,6 +168,28 @@ Real particle_phi_excess(const MaterialParams& m, const Mat<Dim>& F, const Mat<D
   return phi_of_particle<Dim>(m, F, D, alpha, sigma_c, true, piola);
 }
 
+template <int Dim>
+Real crack_onset_stretch(const MaterialParams& m, const Mat<Dim>& D, const Real alpha[2],
+                         Real sigma_c, const Vec<Dim>& n, Real max_stretch) {
+  const Vec<Dim> u = n.normalized();
+  auto phi = [&](Real e) {
+    return particle_phi<Dim>(m, Mat<Dim>::Identity() + e * u * u.transpose(), D, alpha, sigma_c);
+  };
+  // Scan in steps of 1 % strain (Phi need not be monotone far out), then bisect the first
+  // bracket to ~1e-12.
+  constexpr Real kStep = Real(0.01);
+  Real lo = 0;
+  for (Real hi = kStep; hi <= max_stretch - 1 + kStep / 2; lo = hi, hi += kStep) {
+    if (phi(hi) < 1) continue;
+    for (int it = 0; it < 60; ++it) {
+      const Real mid = (lo + hi) / 2;
+      (phi(mid) < 1 ? lo : hi) = mid;
+    }
+    return 1 + hi;
+  }
+  return std::numeric_limits<Real>::infinity();
+}
+
 template Mat<2> tensile_part<2>(const Mat<2>&);
 template Mat<3> tensile_part<3>(const Mat<3>&);
 template Mat<2> structural_tensor<2>(const Mat<2>&, const Mat<2>&, const Real[2]);
@@ -178,6 +200,10 @@ template Real particle_phi<2>(const MaterialParams&, const Mat<2>&, const Mat<2>
                               Real);
 template Real particle_phi<3>(const MaterialParams&, const Mat<3>&, const Mat<3>&, const Real[2],
                               Real);
+template Real crack_onset_stretch<2>(const MaterialParams&, const Mat<2>&, const Real[2], Real,
+                                     const Vec<2>&, Real);
+template Real crack_onset_stretch<3>(const MaterialParams&, const Mat<3>&, const Real[2], Real,
+                                     const Vec<3>&, Real);
 template Real particle_phi_excess<2>(const MaterialParams&, const Mat<2>&, const Mat<2>&,
                                      const Real[2], Real, Mat<2>*);
 template Real particle_phi_excess<3>(const MaterialParams&, const Mat<3>&, const Mat<3>&,

@@ -40,4 +40,12 @@ template <int Dim>
 Real particle_phi_excess(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D,
                          const Real alpha[2], Real sigma_c, Mat<Dim>* piola = nullptr);
 
+// Where cracking starts, for choosing sigma_c: the stretch 1 + e of the uniaxial strain
+// F = I + e n n^T (the other directions held) at which a particle with rest fiber frame D
+// first reaches Phi = 1, found by scanning e up to `max_stretch` - 1 and bisecting. Infinity
+// when Phi stays below 1 up to `max_stretch` (e.g. along fibers with alpha = -1).
+template <int Dim>
+Real crack_onset_stretch(const MaterialParams& m, const Mat<Dim>& D, const Real alpha[2],
+                         Real sigma_c, const Vec<Dim>& n, Real max_stretch = 4);
+
 }  // namespace tear

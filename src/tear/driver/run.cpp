@@ -1,5 +1,6 @@
 #include "tear/driver/run.h"
 
+#include "tear/damage/driving_force.h"
 #include "tear/io/atomic_file.h"
 #include "tear/io/frames.h"
 #include "tear/mpm/simulation.h"
@@ -19,6 +20,7 @@
 #include <iostream>
 #include <memory>
 #include <sstream>
+#include <type_traits>
 
 #include <unistd.h>
 
@@ -35,6 +37,34 @@ void write_frame(const std::string& dir, int frame, const Simulation& sim,
   const PointTable table = sim.frame_table();
   for (const std::string& f : formats)
     write_file_atomic(frame_path(dir, frame, f), encode_points(table, f));
+}
+
+// For choosing sigma_c: the uniaxial stretch (other directions held) at which a particle of
+// the material starts to crack, across and along its primary fiber.
+void print_crack_onset(std::ostream& out, const Scene& s, const MaterialSpec& m) {
+  const Real alpha[2] = {Real(m.damage.alpha[0]), Real(m.damage.alpha[1])};
+  Real across = 0, along = 0;
+  auto onsets = [&](auto dim) {
+    constexpr int Dim = decltype(dim)::value;
+    using V = Vec<Dim>;
+    const Mat<Dim> D = Mat<Dim>::Identity();  // primary fiber along x
+    across = crack_onset_stretch<Dim>(m.params, D, alpha, Real(m.damage.sigma_c), V::Unit(1));
+    along = crack_onset_stretch<Dim>(m.params, D, alpha, Real(m.damage.sigma_c), V::Unit(0));
+  };
+  if (s.dim == 2)
+    onsets(std::integral_constant<int, 2>{});
+  else
+    onsets(std::integral_constant<int, 3>{});
+  auto text = [](Real stretch) {
+    if (std::isinf(stretch)) return std::string("beyond 4");
+    char buf[32];
+    std::snprintf(buf, sizeof(buf), "%.4g", double(stretch));
+    return std::string(buf);
+  };
+  out << "damage     " << m.name << ": sigma_c " << m.damage.sigma_c << ", eta " << m.damage.eta
+      << ", alpha [" << m.damage.alpha[0] << ", " << m.damage.alpha[1]
+      << "]; cracks start at a uniaxial stretch of " << text(across) << " across the fibers, "
+      << text(along) << " along them (other directions held)\n";
 }
 
 std::string clock_text(double seconds) {
@@ -251,6 +281,7 @@ int check_scene(const std::string& scene_path, const std::vector<std::string>& o
         if (s.dim == 3) out << ", ky " << p.ky;
       }
       out << ", wave speed " << wave_speed(p) << (m.damage.enabled ? ", damage" : "") << "\n";
+      if (m.damage.enabled) print_crack_onset(out, s, m);
     }
     const nlohmann::json& objects = s.resolved.at("objects");
     for (size_t i = 0; i < s.objects.size(); ++i) {
