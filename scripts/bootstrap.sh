@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Set up tear on a Debian machine and either run the default demo or the whole test suite.
-#   bash scripts/bootstrap.sh demo   install packages, build Release, run the 2D tube pull
+#   bash scripts/bootstrap.sh demo   install packages, build Release, run and render the 2D
+#                                    block tear (a video and a still)
 #   bash scripts/bootstrap.sh test   install packages, build Release (with tear's own
 #                                    assertions), run every test with ctest
 # Packages are installed only when missing; the build goes to ./build.
@@ -9,7 +10,11 @@ cd "$(dirname "$0")/.."
 
 mode=${1:-demo}
 packages=(cmake ninja-build g++ pkg-config libeigen3-dev libtbb-dev nlohmann-json3-dev
-          libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev python3)
+          libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev python3
+          libembree-dev libpng-dev ffmpeg
+          libopenvdb-dev libboost-iostreams-dev)
+# libboost-iostreams-dev: Debian's libopenvdb-dev does not pull in the Boost headers that the
+# OpenVDB headers include, nor the Boost iostreams that its CMake find module requires.
 
 missing=()
 for p in "${packages[@]}"; do
@@ -29,9 +34,14 @@ cmake --build build
 
 case "$mode" in
   demo)
-    echo "== running the default demo: examples/tube_pull_2d.json"
-    ./build/tear run examples/tube_pull_2d.json -o out/tube_pull_2d
-    echo "== output: $(pwd)/out/tube_pull_2d (frames/NNNNN.ply, stats.jsonl, scene.json; see docs/outputs.md)"
+    echo "== running the default demo: examples/block_tear_2d.json (a block torn along its fibers)"
+    ./build/tear run examples/block_tear_2d.json -o out/block_tear_2d --render
+    last=$(ls out/block_tear_2d/render | sort | tail -1)
+    echo "== output: $(pwd)/out/block_tear_2d (frames/, stats.jsonl, scene.json; see docs/outputs.md)"
+    if [[ -f out/block_tear_2d/preview.mp4 ]]; then
+      echo "== video: $(pwd)/out/block_tear_2d/preview.mp4"
+    fi
+    echo "== still: $(pwd)/out/block_tear_2d/render/$last"
     ;;
   test)
     echo "== running the test suite"

@@ -375,10 +375,6 @@ std::vector<BrokenScene> broken_scenes() {
       patched("FibersFromFile",
               sphere_object(R"(, "fibers": {"type": "from_file", "file": "f.ply"})"),
               "objects[0].fibers.type: \"from_file\": not implemented yet"),
-      patched("BgeoFormat", R"({"output": {"formats": ["ply", "bgeo"]}})",
-              "output.formats[1]: format \"bgeo\": not implemented yet"),
-      patched("VtuFormat", R"({"output": {"formats": ["vtu"]}})",
-              "output.formats[0]: format \"vtu\": not implemented yet"),
       // --- --set overrides
       overridden("SetUnknownPath", {"materials.steel.E=1"},
                  "materials.steel.E: override \"materials.steel.E=1\": \"materials.steel\" does "

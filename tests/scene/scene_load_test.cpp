@@ -113,6 +113,15 @@ TEST(SceneLoad, DamageSolverDefaultFollowsTheMaterials) {
   EXPECT_EQ(parse_scene(doc, "rich.json").damage.solver, DamageSolver::None);
 }
 
+// output.formats accepts every point format io/ can write, in the order given.
+TEST(SceneLoad, EveryPointFormatIsAccepted) {
+  json doc = rich_scene_3d();
+  doc["output"]["formats"] = {"vtu", "ply", "bgeo"};
+  Scene s = parse_scene(doc, "rich.json");
+  EXPECT_EQ(s.formats, (std::vector<std::string>{"vtu", "ply", "bgeo"}));
+  EXPECT_EQ(s.resolved["output"]["formats"], json({"vtu", "ply", "bgeo"}));
+}
+
 // The example of SCENE_FORMAT.md and of docs/scene_reference.md load as written.
 TEST(SceneLoad, DocumentedExamplesLoad) {
   Scene a = parse_scene(json::parse(R"({

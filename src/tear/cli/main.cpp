@@ -1,10 +1,86 @@
 // cli/: the `tear` executable, a thin layer over driver/ (ARCHITECTURE.md "What a user does").
 #include "tear/driver/bench_suite.h"
+#include "tear/driver/convert.h"
+#include "tear/driver/mesh_frames.h"
+#include "tear/driver/render_frames.h"
 #include "tear/driver/run.h"
 
 #include <CLI/CLI.hpp>
 
 #include <iostream>
+
+namespace {
+
+// The picture options `tear render` and `tear run --render` share.
+struct RenderArgs {
+  std::vector<CLI::Option*> options;
+  std::string color;
+  int width = 0, height = 0, samples = 0;
+  bool surface = false, no_video = false;
+  std::vector<double> position, target, up;
+  double fov = 0, radius = 0, velocity_max = 0;
+
+  void add(CLI::App* cmd) {
+    auto keep = [&](CLI::Option* o) { options.push_back(o); };
+    keep(cmd->add_option("--color", color,
+                         "Colour by damage, material, fibers or velocity (default: the scene's "
+                         "render.color, damage)")
+             ->check(CLI::IsMember({"damage", "material", "fibers", "velocity"})));
+    keep(cmd->add_flag("--surface", surface,
+                       "Draw the surface mesh of the particles instead of spheres"));
+    keep(cmd->add_option("--width", width, "Picture width in pixels (default 960)")
+             ->check(CLI::Range(16, 16384)));
+    keep(cmd->add_option("--height", height, "Picture height in pixels (default 540)")
+             ->check(CLI::Range(16, 16384)));
+    keep(cmd->add_option("--samples", samples, "Samples per pixel (default 4)")
+             ->check(CLI::Range(1, 1024)));
+    keep(cmd->add_option("--camera-position", position,
+                         "Camera position x,y,z (default: fitted to the first frame)")
+             ->delimiter(',')
+             ->expected(3));
+    keep(cmd->add_option("--camera-target", target,
+                         "Point the camera looks at, x,y,z (default: the first frame's centre)")
+             ->delimiter(',')
+             ->expected(3));
+    keep(cmd->add_option("--camera-up", up, "Camera up direction x,y,z (default: against gravity)")
+             ->delimiter(',')
+             ->expected(3));
+    keep(cmd->add_option("--fov", fov, "Vertical field of view in degrees (default 40)")
+             ->check(CLI::Range(0.01, 179.0)));
+    keep(cmd->add_option("--radius", radius,
+                         "Sphere radius of every particle (default: half the particle spacing)")
+             ->check(CLI::PositiveNumber));
+    keep(cmd->add_option("--velocity-max", velocity_max,
+                         "Speed at the top of the velocity colour map (default: the largest)")
+             ->check(CLI::PositiveNumber));
+    keep(cmd->add_flag("--no-video", no_video, "Write the pictures only, no preview.mp4"));
+  }
+
+  tear::RenderOverrides overrides() const {
+    tear::RenderOverrides o;
+    auto given = [&](const char* name) {
+      for (const CLI::Option* opt : options)
+        if (opt->get_name() == name) return opt->count() > 0;
+      return false;
+    };
+    auto vec = [](const std::vector<double>& v) { return Eigen::Vector3d(v[0], v[1], v[2]); };
+    if (given("--color")) o.color = color;
+    if (given("--width")) o.width = width;
+    if (given("--height")) o.height = height;
+    if (given("--samples")) o.samples = samples;
+    o.surface = surface;
+    if (given("--camera-position")) o.camera_position = vec(position);
+    if (given("--camera-target")) o.camera_target = vec(target);
+    if (given("--camera-up")) o.camera_up = vec(up);
+    if (given("--fov")) o.fov_deg = fov;
+    if (given("--radius")) o.radius = radius;
+    if (given("--velocity-max")) o.velocity_max = velocity_max;
+    o.video = !no_video;
+    return o;
+  }
+};
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"tear: anisotropic tearing and fracture with the Material Point Method"};
@@ -27,6 +103,13 @@ int main(int argc, char** argv) {
       ->allow_extra_args(false);
   run_cmd->add_flag("-q,--quiet", run.quiet, "No progress line");
   run_cmd->add_flag("--resume", run.resume, "Continue the run in --out from its checkpoint");
+  CLI::Option* render_flag = run_cmd->add_flag(
+      "--render", run.render,
+      "Render each written frame into DIR/render/ and make DIR/preview.mp4 (options as for "
+      "tear render)");
+  RenderArgs run_render;
+  run_render.add(run_cmd);
+  for (CLI::Option* o : run_render.options) o->needs(render_flag);
 
   std::string check_path;
   std::vector<std::string> check_overrides;
@@ -37,6 +120,54 @@ int main(int argc, char** argv) {
       ->allow_extra_args(false);
 
   CLI::App* info_cmd = app.add_subcommand("info", "Version, build options, libraries, threads");
+
+  tear::RenderOptions render;
+  RenderArgs render_args;
+  CLI::App* render_cmd = app.add_subcommand(
+      "render", "Ray trace a run's frames into DIR/render/NNNNN.png and DIR/preview.mp4");
+  render_cmd->add_option("dir", render.dir, "Output folder of tear run")->required();
+  render_cmd->add_option("--frames", render.frames,
+                         "Frames to render: A:B, A:, :B or A (default: all)");
+  render_cmd->add_option("--threads", render.threads, "Worker threads (0 = all cores)")
+      ->check(CLI::NonNegativeNumber);
+  render_cmd->add_flag("-q,--quiet", render.quiet, "No progress lines");
+  render_args.add(render_cmd);
+
+  tear::ConvertOptions convert;
+  CLI::App* convert_cmd = app.add_subcommand(
+      "convert", "Write a run's frames in another point format (ply, bgeo, vtu)");
+  convert_cmd->add_option("dir", convert.dir, "Output folder of tear run")->required();
+  convert_cmd->add_option("--to", convert.format, "Target format: ply, bgeo or vtu")
+      ->required();
+  convert_cmd->add_option("--frames", convert.frames,
+                          "Frames to convert: A:B, A:, :B or A (default: all)");
+
+  tear::MeshFramesOptions mesh;
+  CLI::App* mesh_cmd = app.add_subcommand(
+      "mesh", "Surface meshes of a run's frames into DIR/meshes/NNNNN.obj (cracks open)");
+  mesh_cmd->add_option("dir", mesh.dir, "Output folder of tear run")->required();
+  mesh_cmd->add_option("--frames", mesh.frames, "Frames to mesh: A:B, A:, :B or A (default: all)");
+  mesh_cmd->add_option("--spacing", mesh.spacing,
+                       "Particle spacing (default: median nearest-neighbour distance in the "
+                       "first frame)")
+      ->check(CLI::PositiveNumber);
+  mesh_cmd->add_option("--radius", mesh.radius,
+                       "Sphere radius per particle, in spacings (default 1)")
+      ->check(CLI::PositiveNumber);
+  mesh_cmd->add_option("--voxel", mesh.voxel, "Voxel size, in spacings (default 0.5)")
+      ->check(CLI::PositiveNumber);
+  mesh_cmd->add_option("--smooth", mesh.smooth, "Smoothing passes over the level set (default 2)")
+      ->check(CLI::Range(0, 100));
+  mesh_cmd->add_option("--damage-threshold", mesh.damage_threshold,
+                       "Particles with more damage open the surface")
+      ->capture_default_str();
+  mesh_cmd->add_option("--format", mesh.formats, "obj, ply or obj,ply")
+      ->delimiter(',')
+      ->capture_default_str()
+      ->check(CLI::IsMember({"obj", "ply"}));
+  mesh_cmd->add_option("--threads", mesh.threads, "Worker threads (0 = all cores)")
+      ->check(CLI::NonNegativeNumber);
+  mesh_cmd->add_flag("-q,--quiet", mesh.quiet, "No progress lines");
 
   long stress_evals = 10000000, particles = 475000;
   int steps = 20;
@@ -68,7 +199,16 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : 2;
   }
 
-  if (*run_cmd) return tear::run_scene(run);
+  if (*run_cmd) {
+    run.render_options = run_render.overrides();
+    return tear::run_scene(run);
+  }
+  if (*render_cmd) {
+    render.overrides = render_args.overrides();
+    return tear::render_frames(render);
+  }
+  if (*convert_cmd) return tear::convert_run(convert);
+  if (*mesh_cmd) return tear::mesh_frames(mesh);
   if (*check_cmd) return tear::check_scene(check_path, check_overrides, std::cout);
   if (*info_cmd) {
     tear::print_info(std::cout);

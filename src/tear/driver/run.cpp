@@ -1,8 +1,10 @@
 #include "tear/driver/run.h"
 
 #include "tear/damage/driving_force.h"
+#include "tear/driver/convert.h"
 #include "tear/io/atomic_file.h"
 #include "tear/io/frames.h"
+#include "tear/io/vtu.h"
 #include "tear/mpm/simulation.h"
 #include "tear/scene/scene.h"
 
@@ -18,6 +20,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <type_traits>
@@ -31,12 +34,17 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-// The frame in every format the scene asks for.
+// The frame in every format the scene asks for; with vtu, DIR/frames.pvd lists it at its time
+// (recorded in `vtu_times`, the times of the frames written before).
 void write_frame(const std::string& dir, int frame, const Simulation& sim,
-                 const std::vector<std::string>& formats) {
+                 const std::vector<std::string>& formats, std::map<int, double>* vtu_times) {
   const PointTable table = sim.frame_table();
   for (const std::string& f : formats)
     write_file_atomic(frame_path(dir, frame, f), encode_points(table, f));
+  if (std::find(formats.begin(), formats.end(), "vtu") != formats.end()) {
+    (*vtu_times)[frame] = sim.time();
+    write_frames_pvd(dir, *vtu_times);
+  }
 }
 
 // For choosing sigma_c: the uniaxial stretch (other directions held) at which a particle of
@@ -133,8 +141,11 @@ Scene load(const std::string& path, std::vector<std::string> overrides, int fram
   return load_scene(path, overrides);
 }
 
+// The parts of a resolved scene that a resumed run must keep (time.frames may grow; the render
+// section only changes pictures).
 nlohmann::json without_frames(nlohmann::json j) {
   if (j.contains("time") && j["time"].is_object()) j["time"].erase("frames");
+  j.erase("render");
   return j;
 }
 
@@ -180,10 +191,14 @@ int run_scene(const RunOptions& o) {
     // Everything that can be wrong with the input is found before anything is written.
     const Scene scene = load(o.scene_path, o.overrides, o.frames);
     std::unique_ptr<Simulation> sim = make_simulation(scene);
+    std::unique_ptr<RunRenderer> renderer;
+    if (o.render)
+      renderer = std::make_unique<RunRenderer>(o.out_dir, scene, o.render_options, o.threads);
     const fs::path dir(o.out_dir);
     const std::string stats_path = (dir / "stats.jsonl").string();
     const std::string checkpoint_path = (dir / "checkpoints" / "latest.bin").string();
     std::vector<std::string> stats;
+    std::map<int, double> vtu_times;  // for frames.pvd
 
     if (o.resume) {
       const std::string old_scene = (dir / "scene.json").string();
@@ -203,18 +218,26 @@ int run_scene(const RunOptions& o) {
       }
       if (!fs::exists(stats_path)) return fail(stats_path + ": missing; cannot resume");
       stats = stats_up_to(stats_path, sim->frame());
+      vtu_times = frame_times(stats);
       // Record the new frame count; everything else was checked to be equal.
       write_file_atomic(old_scene, scene.resolved.dump(2) + "\n");
+      if (renderer) renderer->resume(sim->frame());
       if (!o.quiet)
         std::fprintf(stderr, "resuming %s at frame %d (t = %g s)\n", o.out_dir.c_str(),
                      sim->frame(), sim->time());
     } else {
-      // A fresh run owns scene.json, stats.jsonl, frames/ and checkpoints/ in the folder.
+      // A fresh run owns scene.json, stats.jsonl, frames/, frames.pvd and checkpoints/ in the
+      // folder.
       fs::remove_all(dir / "frames");
       fs::remove_all(dir / "checkpoints");
+      fs::remove(dir / "frames.pvd");
       make_directories((dir / "frames").string());
       write_file_atomic((dir / "scene.json").string(), scene.resolved.dump(2) + "\n");
-      write_frame(o.out_dir, 0, *sim, scene.formats);
+      write_frame(o.out_dir, 0, *sim, scene.formats, &vtu_times);
+      if (renderer) {
+        renderer->clear();
+        renderer->render(0, sim->frame_table());
+      }
       FrameStats s = sim->collect_stats();
       stats.push_back(s.to_json().dump());
       write_lines_atomic(stats_path, stats);
@@ -241,8 +264,10 @@ int run_scene(const RunOptions& o) {
                      scene.damage.cg_tolerance);
         warned_cg = true;
       }
-      if (frame % scene.output_every == 0 || frame == scene.frames)
-        write_frame(o.out_dir, frame, *sim, scene.formats);
+      if (frame % scene.output_every == 0 || frame == scene.frames) {
+        write_frame(o.out_dir, frame, *sim, scene.formats, &vtu_times);
+        if (renderer) renderer->render(frame, sim->frame_table());
+      }
       stats.push_back(s.to_json().dump());
       write_lines_atomic(stats_path, stats);
       if ((scene.checkpoint_every > 0 && frame % scene.checkpoint_every == 0) ||
@@ -253,6 +278,7 @@ int run_scene(const RunOptions& o) {
     const double wall = std::chrono::duration<double>(Clock::now() - start).count();
     std::printf("wrote %d frames (%zu particles, %ld steps) to %s in %.1f s\n", scene.frames,
                 sim->num_particles(), sim->total_steps(), o.out_dir.c_str(), wall);
+    if (renderer) std::printf("%s\n", renderer->finish().c_str());
     return 0;
   } catch (const std::exception& e) {
     return fail(e.what());

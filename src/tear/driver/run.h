@@ -3,6 +3,8 @@
 // "Outputs"), progress display and resuming.
 #pragma once
 
+#include "tear/driver/render_frames.h"
+
 #include <ostream>
 #include <string>
 #include <vector>
@@ -17,6 +19,8 @@ struct RunOptions {
   std::vector<std::string> overrides;  // --set KEY=VALUE
   bool quiet = false;                  // no progress line
   bool resume = false;                 // continue DIR's run from its checkpoint
+  bool render = false;                 // --render: DIR/render/NNNNN.png per frame, preview.mp4
+  RenderOverrides render_options;      // with --render
 };
 
 // `tear run`. Returns the exit code; errors are one line "tear: reason" on stderr. An invalid

@@ -7,15 +7,23 @@
 #include <stdexcept>
 
 #include "tear/io/atomic_file.h"
+#include "tear/io/bgeo.h"
 #include "tear/io/ply.h"
+#include "tear/io/vtu.h"
 
 namespace tear {
 
 namespace fs = std::filesystem;
 
 const std::vector<std::string> &point_formats() {
-  static const std::vector<std::string> kFormats{"ply"};
+  static const std::vector<std::string> kFormats{"ply", "bgeo", "vtu"};
   return kFormats;
+}
+
+std::string point_format_list(const std::string &separator) {
+  std::string out;
+  for (const std::string &f : point_formats()) out += (out.empty() ? "" : separator) + f;
+  return out;
 }
 
 std::string frame_path(const std::string &dir, int frame, const std::string &format) {
@@ -24,7 +32,10 @@ std::string frame_path(const std::string &dir, int frame, const std::string &for
   return (fs::path(dir) / "frames" / (name + format)).string();
 }
 
-std::vector<FrameFile> list_frames(const std::string &dir) {
+namespace {
+
+// The frames of DIR in any point format (`only` null) or in `*only`.
+std::vector<FrameFile> scan_frames(const std::string &dir, const std::string *only) {
   const fs::path folder = fs::path(dir) / "frames";
   std::error_code ec;
   if (!fs::is_directory(folder, ec))
@@ -39,7 +50,7 @@ std::vector<FrameFile> list_frames(const std::string &dir) {
         !std::all_of(stem.begin(), stem.end(), [](char c) { return c >= '0' && c <= '9'; }))
       continue;
     const auto rank = std::find(formats.begin(), formats.end(), ext.substr(1));
-    if (rank == formats.end()) continue;
+    if (rank == formats.end() || (only && *rank != *only)) continue;
     const int frame = std::stoi(stem);
     auto it = best.find(frame);
     if (it != best.end() && std::find(formats.begin(), formats.end(), it->second.format) < rank)
@@ -49,6 +60,14 @@ std::vector<FrameFile> list_frames(const std::string &dir) {
   std::vector<FrameFile> out;
   for (auto &[frame, file] : best) out.push_back(file);
   return out;
+}
+
+}  // namespace
+
+std::vector<FrameFile> list_frames(const std::string &dir) { return scan_frames(dir, nullptr); }
+
+std::vector<FrameFile> list_frames(const std::string &dir, const std::string &format) {
+  return scan_frames(dir, &format);
 }
 
 FrameRange parse_frame_range(const std::string &text) {
@@ -79,10 +98,15 @@ FrameRange parse_frame_range(const std::string &text) {
 
 PointTable read_frame(const std::string &path) {
   const std::string ext = fs::path(path).extension().string();
-  if (ext != ".ply")
-    throw std::runtime_error(path + ": unknown point format \"" + ext + "\" (expected .ply)");
+  const std::string format = ext.empty() ? "" : ext.substr(1);
+  const std::vector<std::string> &formats = point_formats();
+  if (std::find(formats.begin(), formats.end(), format) == formats.end())
+    throw std::runtime_error(path + ": unknown point format \"" + ext + "\" (expected ." +
+                             point_format_list(", .") + ")");
   const std::string bytes = read_file(path);  // its errors name the path
   try {
+    if (format == "bgeo") return decode_bgeo(bytes);
+    if (format == "vtu") return decode_vtu(bytes);
     return decode_ply(bytes);
   } catch (const std::exception &e) {
     throw std::runtime_error(path + ": " + e.what());
@@ -91,7 +115,10 @@ PointTable read_frame(const std::string &path) {
 
 std::string encode_points(const PointTable &table, const std::string &format) {
   if (format == "ply") return encode_ply(table);
-  throw std::runtime_error("unknown point format \"" + format + "\"");
+  if (format == "bgeo") return encode_bgeo(table);
+  if (format == "vtu") return encode_vtu(table);
+  throw std::runtime_error("unknown point format \"" + format + "\" (expected one of: " +
+                           point_format_list() + ")");
 }
 
 }  // namespace tear

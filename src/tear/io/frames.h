@@ -14,6 +14,8 @@ namespace tear {
 // preference for reading: when a frame exists in several formats, readers take
 // the first of these.
 const std::vector<std::string> &point_formats();
+// point_formats() joined by `separator`, for messages: "ply, bgeo, vtu".
+std::string point_format_list(const std::string &separator = ", ");
 
 // DIR/frames/NNNNN.EXT (five digits at least, as the run writes them).
 std::string frame_path(const std::string &dir, int frame, const std::string &format);
@@ -28,6 +30,8 @@ struct FrameFile {
 // point_formats()), sorted by frame. Throws std::runtime_error naming DIR when
 // it has no frames folder.
 std::vector<FrameFile> list_frames(const std::string &dir);
+// The frames of DIR stored in `format`, sorted by frame (empty when there are none).
+std::vector<FrameFile> list_frames(const std::string &dir, const std::string &format);
 
 // An inclusive range of frame numbers; "A:B", "A:" (to the end), ":B", "A" (one
 // frame) or

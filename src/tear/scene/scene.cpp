@@ -3,8 +3,10 @@
 // parsed in scene_materials.cpp and scene_objects.cpp. Format: SCENE_FORMAT.md.
 #include "tear/scene/scene.h"
 
+#include "tear/io/frames.h"
 #include "tear/scene/scene_parts.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -132,10 +134,10 @@ json parse_output(const Reader& r, const json& doc, Scene* s) {
       const json& v = (*f)[i];
       if (!v.is_string()) r.fail(p, "must be a string, got " + type_desc(v));
       std::string name = v.get<std::string>();
-      if (name == "bgeo" || name == "vtu")
-        r.fail(p, "format \"" + name + "\": not implemented yet");
-      if (name != "ply")
-        r.fail(p, "unknown format \"" + name + "\" (expected one of: ply, bgeo, vtu)");
+      const std::vector<std::string>& known = point_formats();
+      if (std::find(known.begin(), known.end(), name) == known.end())
+        r.fail(p, "unknown format \"" + name + "\" (expected one of: " + point_format_list() +
+                      ")");
       for (const std::string& seen : s->formats)
         r.check(seen != name, p, "duplicate format \"" + name + "\"");
       s->formats.push_back(name);
@@ -143,6 +145,52 @@ json parse_output(const Reader& r, const json& doc, Scene* s) {
   }
   return {{"every", s->output_every}, {"formats", s->formats},
           {"checkpoint_every", s->checkpoint_every}};
+}
+
+json parse_render(const Reader& r, const json& doc, Scene* s) {
+  static const json kEmpty = json::object();
+  const json* v = r.find(doc, "render");
+  if (!v) v = &kEmpty;
+  r.object(*v, "render", {"camera", "color", "width", "height", "samples", "surface"});
+  RenderSpec& rs = s->render;
+  const char* colors[] = {"damage", "material", "fibers", "velocity"};
+  rs.color =
+      colors[r.choice(*v, "render", "color", {"damage", "material", "fibers", "velocity"}, 0)];
+  auto bounded = [&](const char* key, long long def, long long lo, long long hi) {
+    const long long x = r.integer(*v, "render", key, def);
+    r.check(x >= lo && x <= hi, key_path("render", key),
+            "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
+                std::to_string(x));
+    return int(x);
+  };
+  rs.width = bounded("width", 960, 16, 16384);
+  rs.height = bounded("height", 540, 16, 16384);
+  rs.samples = bounded("samples", 4, 1, 1024);
+  rs.surface = r.boolean(*v, "render", "surface", false);
+  json camera = {{"position", nullptr}, {"target", nullptr}, {"up", nullptr}};
+  const json* c = r.find(*v, "camera");
+  if (c) r.object(*c, "render.camera", {"position", "target", "up", "fov_deg"});
+  // Camera vectors are 3D whatever the scene's dim: the camera looks at the z = 0 plane in 2D.
+  auto vec3 = [&](const char* key, bool* has, Vec3d* out) {
+    const json* e = c ? r.find(*c, key) : nullptr;
+    if (!e) return;
+    *has = true;
+    *out = r.as_vec(*e, key_path("render.camera", key), 3);
+    camera[key] = vec_json(*out, 3);
+  };
+  vec3("position", &rs.has_position, &rs.position);
+  vec3("target", &rs.has_target, &rs.target);
+  vec3("up", &rs.has_up, &rs.up);
+  if (rs.has_up) r.check(rs.up.norm() > 0, "render.camera.up", "must be non-zero");
+  if (rs.has_position && rs.has_target)
+    r.check(rs.position != rs.target, "render.camera.target",
+            "must differ from render.camera.position");
+  rs.fov_deg = c ? r.number(*c, "render.camera", "fov_deg", 40) : 40;
+  r.check(rs.fov_deg > 0 && rs.fov_deg < 180, "render.camera.fov_deg",
+          "must be in (0, 180), got " + num_str(rs.fov_deg));
+  camera["fov_deg"] = rs.fov_deg;
+  return {{"camera", camera},    {"color", rs.color},     {"width", rs.width},
+          {"height", rs.height}, {"samples", rs.samples}, {"surface", rs.surface}};
 }
 
 // Sets doc at the dotted `path` to `value`; the parent must exist.
@@ -222,7 +270,7 @@ Scene parse_scene(const json& doc, const std::string& file) {
   if (!doc.is_object()) r.fail("(root)", "must be an object, got " + type_desc(doc));
   r.object(doc, "",
            {"name", "dim", "seed", "grid", "time", "gravity", "transfer", "flip_ratio",
-            "integrator", "damage", "materials", "objects", "boundaries", "output"});
+            "integrator", "damage", "materials", "objects", "boundaries", "output", "render"});
   long long dim = r.integer(doc, "", "dim");
   r.check(dim == 2 || dim == 3, "dim", "must be 2 or 3, got " + std::to_string(dim));
   s.dim = r.dim = int(dim);
@@ -257,6 +305,7 @@ Scene parse_scene(const json& doc, const std::string& file) {
   out["objects"] = parse_objects(r, doc, &s);
   out["boundaries"] = parse_boundaries(r, doc, &s);
   out["output"] = parse_output(r, doc, &s);
+  out["render"] = parse_render(r, doc, &s);
   s.resolved = std::move(out);
   return s;
 }

@@ -85,6 +85,18 @@ struct BoundarySpec {
   double start = 0, end = 1e30;
 };
 
+// Preview rendering defaults ("render" section) for `tear render` and `tear run --render`;
+// their command-line options override these. Camera vectors are 3D in 2D scenes too.
+struct RenderSpec {
+  std::string color = "damage";  // damage, material, fibers or velocity
+  int width = 960, height = 540;
+  int samples = 4;  // per pixel
+  bool surface = false;
+  bool has_position = false, has_target = false, has_up = false;  // unset: fitted
+  Vec3d position = Vec3d::Zero(), target = Vec3d::Zero(), up = Vec3d::UnitY();
+  double fov_deg = 40;  // vertical
+};
+
 struct Scene {
   std::string file;  // path the scene was loaded from ("" when built in code)
   std::string name;
@@ -110,6 +122,7 @@ struct Scene {
   int output_every = 1;
   std::vector<std::string> formats{"ply"};
   int checkpoint_every = 10;
+  RenderSpec render;
 
   nlohmann::json resolved;  // the full scene with every default filled in
 };

@@ -1,0 +1,146 @@
+#include "tear/driver/mesh_frames.h"
+
+#include <tbb/global_control.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <stdexcept>
+
+#include "tear/io/atomic_file.h"
+#include "tear/io/frames.h"
+#include "tear/io/mesh_io.h"
+#include "tear/scene/scene.h"
+#include "tear/surface/mesher.h"
+
+namespace tear {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+// "tear: reason" on stderr.
+int fail(std::string why, int code = 1) {
+  for (char& c : why)
+    if (c == '\n' || c == '\r') c = ' ';
+  std::fprintf(stderr, "tear: %s\n", why.c_str());
+  return code;
+}
+
+std::string mesh_path(const std::string& dir, int frame, const std::string& format) {
+  char name[32];
+  std::snprintf(name, sizeof(name), "%05d.%s", frame, format.c_str());
+  return (fs::path(dir) / "meshes" / name).string();
+}
+
+// The sampling spacing dx / ppc^(1/dim) of the scene's densest object, as the renderer takes it
+// (driver/render_frames.cpp). Exact for every sampling; the nearest-neighbour estimate is too
+// small for stratified-random samples (about 0.65 of it).
+double scene_spacing(const Scene& s) {
+  int densest = 0;
+  for (const ObjectSpec& o : s.objects) densest = std::max(densest, o.ppc);
+  if (densest <= 0) densest = s.dim == 2 ? 4 : 8;
+  return s.dx / std::pow(double(densest), 1.0 / s.dim);
+}
+
+double seconds_since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+}  // namespace
+
+int mesh_frames(const MeshFramesOptions& o) {
+  FrameRange range;
+  try {
+    range = parse_frame_range(o.frames);
+  } catch (const std::exception& e) {
+    return fail(e.what(), 2);
+  }
+  MeshOptions mesh_options;
+  mesh_options.spacing = o.spacing;
+  mesh_options.radius = o.radius;
+  mesh_options.voxel = o.voxel;
+  mesh_options.smooth = o.smooth;
+  mesh_options.damage_threshold = o.damage_threshold;
+  try {
+    check_mesh_options(mesh_options);
+  } catch (const std::exception& e) {
+    return fail(e.what());
+  }
+  if (o.formats.empty()) return fail("--format: give obj, ply or both");
+  for (const std::string& f : o.formats)
+    if (f != "obj" && f != "ply") return fail("--format " + f + ": must be obj or ply");
+  try {
+    std::unique_ptr<tbb::global_control> limit;
+    if (o.threads > 0)
+      limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                    size_t(o.threads));
+    const Clock::time_point start = Clock::now();
+    std::error_code ec;
+    if (!fs::is_directory(o.dir, ec)) return fail(o.dir + ": no such folder");
+    const std::vector<FrameFile> all = list_frames(o.dir);
+    std::vector<FrameFile> files;
+    for (const FrameFile& f : all)
+      if (range.contains(f.frame)) files.push_back(f);
+    if (files.empty())
+      return fail(o.dir + ": no frames" + (o.frames.empty() ? "" : " in --frames " + o.frames));
+    // One spacing for every frame, that of the particles as sampled, so that stretching does
+    // not make later surfaces fatter: from the run's scene, else from its first frame.
+    if (mesh_options.spacing == 0) {
+      const std::string scene_path = (fs::path(o.dir) / "scene.json").string();
+      std::string source;
+      if (fs::exists(scene_path)) {
+        mesh_options.spacing = scene_spacing(load_scene(scene_path));
+        source = "dx / ppc^(1/dim) in " + scene_path;
+      } else {
+        mesh_options.spacing = estimate_spacing(read_frame(all.front().path));
+        source = "median nearest-neighbour distance in frame " + std::to_string(all.front().frame);
+        if (!(mesh_options.spacing > 0))
+          return fail(all.front().path + ": cannot estimate the particle spacing (fewer than " +
+                      "two distinct points); give --spacing");
+      }
+      if (!o.quiet) std::fprintf(stderr, "spacing %g (%s)\n", mesh_options.spacing, source.c_str());
+    }
+    make_directories((fs::path(o.dir) / "meshes").string());
+    const bool tty = ::isatty(STDERR_FILENO) != 0;
+    size_t triangles = 0;
+    for (size_t i = 0; i < files.size(); ++i) {
+      const Clock::time_point frame_start = Clock::now();
+      TriMesh mesh;
+      try {
+        mesh = mesh_particles(read_frame(files[i].path), mesh_options);
+      } catch (const std::exception& e) {
+        // read_frame names the file itself; the mesher does not.
+        const std::string why = e.what();
+        return fail(why.find(files[i].path) == std::string::npos ? files[i].path + ": " + why
+                                                                 : why);
+      }
+      for (const std::string& format : o.formats)
+        write_file_atomic(mesh_path(o.dir, files[i].frame, format),
+                          format == "obj" ? encode_obj(mesh) : encode_mesh_ply(mesh));
+      triangles += mesh.triangles.size();
+      if (!o.quiet) {
+        std::fprintf(stderr, "%smesh %zu/%zu  frame %d  %zu triangles  %.2f s%s", tty ? "\r" : "",
+                     i + 1, files.size(), files[i].frame, mesh.triangles.size(),
+                     seconds_since(frame_start), tty ? "\033[K" : "\n");
+        if (tty && i + 1 == files.size()) std::fprintf(stderr, "\n");
+        std::fflush(stderr);
+      }
+    }
+    std::string written;
+    for (const std::string& format : o.formats) written += (written.empty() ? "" : ", ") + format;
+    std::printf("meshed %zu frames (%zu triangles, %s) to %s in %.1f s\n", files.size(), triangles,
+                written.c_str(), (fs::path(o.dir) / "meshes").string().c_str(),
+                seconds_since(start));
+    return 0;
+  } catch (const std::exception& e) {
+    return fail(e.what());
+  }
+}
+
+}  // namespace tear

@@ -1,0 +1,321 @@
+#include "tear/driver/render_frames.h"
+
+#include <tbb/global_control.h>
+#include <unistd.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "tear/io/atomic_file.h"
+#include "tear/io/frames.h"
+#include "tear/render/legend.h"
+#include "tear/render/render.h"
+#include "tear/render/video.h"
+#include "tear/scene/scene.h"
+
+namespace tear {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+// What the renderer needs from a scene: which way is up, floors, particle sizes, names.
+RenderLook look_of(const Scene& s) {
+  RenderLook look;
+  look.dim = s.dim;
+  if (s.gravity.norm() > 0) {
+    look.up = -s.gravity.normalized();
+    look.falls = true;
+  }
+  // Floors: half spaces whose solid side is below (outward normal along up), and the domain's
+  // lower wall when walls hold the particles in.
+  for (const BoundarySpec& b : s.boundaries) {
+    if (b.shape.type != Shape::Type::HalfSpace) continue;
+    const Vec3d n = (b.shape.transform.rotate * b.shape.normal).normalized();
+    if (n.dot(look.up) > 0.999)
+      look.floors.push_back(b.shape.transform.to_world(b.shape.point).dot(look.up));
+  }
+  if (s.walls != WallType::None)
+    for (int a = 0; a < s.dim; ++a) {
+      if (look.up[a] > 0.999) look.floors.push_back(s.domain_min[a]);
+      if (look.up[a] < -0.999) look.floors.push_back(-s.domain_max[a]);
+    }
+  // Spheres just touching on the sampling lattice: radius half the spacing dx / ppc^(1/dim).
+  const int default_ppc = s.dim == 2 ? 4 : 8;
+  std::vector<int> ppc(s.materials.size(), 0);
+  int densest = 0;
+  for (const ObjectSpec& o : s.objects) {
+    if (o.material >= 0 && size_t(o.material) < ppc.size())
+      ppc[size_t(o.material)] = std::max(ppc[size_t(o.material)], o.ppc);
+    densest = std::max(densest, o.ppc);
+  }
+  auto spacing = [&](int n) {
+    return s.dx / std::pow(double(n > 0 ? n : default_ppc), 1.0 / s.dim);
+  };
+  for (size_t m = 0; m < s.materials.size(); ++m) {
+    look.material_radius.push_back(0.5 * spacing(ppc[m]));
+    look.material_names.push_back(s.materials[m].name);
+  }
+  look.radius = 0.5 * spacing(default_ppc);
+  look.spacing = spacing(densest);
+  return look;
+}
+
+RenderSettings settings_of(const RenderSpec& spec, const RenderOverrides& o) {
+  RenderSettings st;
+  st.color = parse_color_by(o.color.value_or(spec.color));
+  st.width = o.width.value_or(spec.width);
+  st.height = o.height.value_or(spec.height);
+  st.samples = o.samples.value_or(spec.samples);
+  st.surface = o.surface || spec.surface;
+  if (spec.has_position) st.camera_position = spec.position;
+  if (spec.has_target) st.camera_target = spec.target;
+  if (spec.has_up) st.camera_up = spec.up;
+  if (o.camera_position) st.camera_position = o.camera_position;
+  if (o.camera_target) st.camera_target = o.camera_target;
+  if (o.camera_up) st.camera_up = o.camera_up;
+  st.fov_deg = o.fov_deg.value_or(spec.fov_deg);
+  st.radius = o.radius.value_or(0);
+  if (o.velocity_max) st.velocity_max = *o.velocity_max;
+  if (st.width < 16 || st.height < 16 || st.width > 16384 || st.height > 16384)
+    throw std::runtime_error("picture size " + std::to_string(st.width) + "x" +
+                             std::to_string(st.height) +
+                             ": width and height must be in [16, 16384]");
+  if (st.samples < 1 || st.samples > 1024)
+    throw std::runtime_error("--samples " + std::to_string(st.samples) + ": must be in [1, 1024]");
+  if (!(st.fov_deg > 0 && st.fov_deg < 180))
+    throw std::runtime_error("--fov " + std::to_string(st.fov_deg) + ": must be in (0, 180)");
+  if (o.radius && !(*o.radius > 0)) throw std::runtime_error("--radius: must be > 0");
+  if (o.velocity_max && !(*o.velocity_max > 0))
+    throw std::runtime_error("--velocity-max: must be > 0");
+  if (st.camera_up && !(st.camera_up->norm() > 0))
+    throw std::runtime_error("--camera-up: must be non-zero");
+  if (st.camera_position && st.camera_target && *st.camera_position == *st.camera_target)
+    throw std::runtime_error("--camera-position equals the camera target");
+  if (st.surface && !surface_rendering_available())
+    throw std::runtime_error("--surface: this build of tear has no surface mesher");
+  return st;
+}
+
+std::string png_path(const std::string& dir, int frame) {
+  char name[32];
+  std::snprintf(name, sizeof(name), "%05d.png", frame);
+  return (fs::path(dir) / "render" / name).string();
+}
+
+std::string caption_of(int frame, double frame_dt) {
+  return "FRAME " + std::to_string(frame) + "   T=" + label_number(frame * frame_dt);
+}
+
+// Playback rate: the run's own (one rendered frame per frame_dt times the usual gap between
+// rendered frames), kept between 6 and 60 frames per second.
+double video_fps(const std::vector<int>& frames, double frame_dt) {
+  std::vector<int> gaps;
+  for (size_t i = 1; i < frames.size(); ++i) gaps.push_back(frames[i] - frames[i - 1]);
+  int gap = 1;
+  if (!gaps.empty()) {
+    std::nth_element(gaps.begin(), gaps.begin() + long(gaps.size() / 2), gaps.end());
+    gap = std::max(1, gaps[gaps.size() / 2]);
+  }
+  const double fps = frame_dt > 0 ? 1 / (frame_dt * gap) : 24;
+  return std::clamp(std::isfinite(fps) ? fps : 24.0, 6.0, 60.0);
+}
+
+// Encodes the video; a missing ffmpeg is a warning given once per process.
+std::string encode_video(const std::string& dir, const std::vector<int>& frames, double frame_dt,
+                         int threads) {
+  static bool warned = false;
+  const std::string out = (fs::path(dir) / "preview.mp4").string();
+  std::vector<std::string> pngs;
+  for (int f : frames) pngs.push_back(png_path(dir, f));
+  if (make_video(pngs, video_fps(frames, frame_dt), out, threads)) return out;
+  if (!warned)
+    std::fprintf(stderr,
+                 "tear: warning: ffmpeg not found on PATH: kept the pictures in %s, no %s\n",
+                 (fs::path(dir) / "render").string().c_str(), out.c_str());
+  warned = true;
+  return "";
+}
+
+// A frame sequence drawn with one camera.
+struct Sequence {
+  std::string dir;
+  RenderLook look;
+  RenderSettings settings;
+  Renderer renderer;
+  std::optional<Stage> stage;
+  double frame_dt = 1.0 / 24;
+  bool auto_velocity = true;  // the velocity map's top follows the largest speed seen
+  double top_speed = 0;
+
+  Sequence(const std::string& d, const Scene& scene, const RenderOverrides& o)
+      : dir(d), look(look_of(scene)), settings(settings_of(scene.render, o)) {
+    frame_dt = scene.frame_dt;
+    auto_velocity = !o.velocity_max;
+  }
+
+  void fit(const PointTable& first) { stage = fit_stage(first, look, settings); }
+
+  void see_speed(const PointTable& t) {
+    if (auto_velocity && settings.color == ColorBy::Velocity)
+      top_speed = std::max(top_speed, max_speed(t));
+  }
+
+  void draw(int frame, const PointTable& table) {
+    if (!stage) fit(table);
+    if (auto_velocity) settings.velocity_max = top_speed > 0 ? top_speed : 1;
+    const Image image = renderer.render(table, look, *stage, settings, caption_of(frame, frame_dt));
+    write_file_atomic(png_path(dir, frame), encode_png(image));
+  }
+};
+
+// "tear: reason" on stderr.
+int fail(std::string why, int code = 1) {
+  for (char& c : why)
+    if (c == '\n' || c == '\r') c = ' ';
+  std::fprintf(stderr, "tear: %s\n", why.c_str());
+  return code;
+}
+
+std::string clock_text(double seconds) {
+  if (!std::isfinite(seconds) || seconds < 0) return "--:--";
+  const long s = std::lround(seconds);
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%ld:%02ld", s / 60, s % 60);
+  return buf;
+}
+
+}  // namespace
+
+int render_frames(const RenderOptions& o) {
+  FrameRange range;
+  try {
+    range = parse_frame_range(o.frames);
+  } catch (const std::exception& e) {
+    return fail(e.what(), 2);
+  }
+  try {
+    std::unique_ptr<tbb::global_control> limit;
+    if (o.threads > 0)
+      limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                    size_t(o.threads));
+    const Clock::time_point start = Clock::now();
+    std::error_code ec;
+    if (!fs::is_directory(o.dir, ec)) return fail(o.dir + ": no such folder");
+    const std::vector<FrameFile> all = list_frames(o.dir);
+    const std::string scene_path = (fs::path(o.dir) / "scene.json").string();
+    if (!fs::exists(scene_path))
+      return fail(scene_path + ": missing (is " + o.dir + " the output folder of tear run?)");
+    const Scene scene = load_scene(scene_path);
+    std::vector<FrameFile> files;
+    for (const FrameFile& f : all)
+      if (range.contains(f.frame)) files.push_back(f);
+    if (files.empty())
+      return fail(o.dir + ": no frames" + (o.frames.empty() ? "" : " in --frames " + o.frames));
+    Sequence seq(o.dir, scene, o.overrides);
+    if (seq.settings.color == ColorBy::Velocity && seq.auto_velocity)
+      for (const FrameFile& f : files) seq.see_speed(read_frame(f.path));  // the run's top speed
+    make_directories((fs::path(o.dir) / "render").string());
+    const bool tty = ::isatty(STDERR_FILENO) != 0;
+    std::vector<int> done;
+    for (size_t i = 0; i < files.size(); ++i) {
+      const PointTable table = read_frame(files[i].path);
+      if (i == 0) {
+        seq.fit(table);
+        if (!o.quiet) {
+          const Camera& c = seq.stage->camera;
+          std::fprintf(stderr, "camera %g,%g,%g  target %g,%g,%g  fov %g\n", c.position.x(),
+                       c.position.y(), c.position.z(), c.target.x(), c.target.y(), c.target.z(),
+                       c.fov_deg);
+        }
+      }
+      seq.draw(files[i].frame, table);
+      done.push_back(files[i].frame);
+      if (!o.quiet) {
+        const double wall = std::chrono::duration<double>(Clock::now() - start).count();
+        const size_t n = i + 1, total = files.size();
+        char line[160];
+        std::snprintf(line, sizeof(line), "render %zu/%zu  frame %d  %.2f s/frame  ETA %s", n,
+                      total, files[i].frame, wall / double(n),
+                      clock_text(wall / double(n) * double(total - n)).c_str());
+        const size_t every = std::max<size_t>(1, total / 20);
+        if (tty)
+          std::fprintf(stderr, "\r%s\033[K%s", line, n == total ? "\n" : "");
+        else if (n == total || n % every == 0)
+          std::fprintf(stderr, "%s\n", line);
+        std::fflush(stderr);
+      }
+    }
+    std::string video;
+    if (o.overrides.video) video = encode_video(o.dir, done, scene.frame_dt, o.threads);
+    const double wall = std::chrono::duration<double>(Clock::now() - start).count();
+    std::printf("rendered %zu frames (%dx%d, %s) to %s in %.1f s%s\n", done.size(),
+                seq.settings.width, seq.settings.height, color_by_name(seq.settings.color),
+                (fs::path(o.dir) / "render").string().c_str(), wall,
+                video.empty() ? "" : ("; video " + video).c_str());
+    return 0;
+  } catch (const std::exception& e) {
+    return fail(e.what());
+  }
+}
+
+struct RunRenderer::Impl {
+  Sequence seq;
+  int threads;
+  Impl(const std::string& dir, const Scene& scene, const RenderOverrides& o, int t)
+      : seq(dir, scene, o), threads(t) {}
+  bool video = true;
+};
+
+RunRenderer::RunRenderer(const std::string& dir, const Scene& scene,
+                         const RenderOverrides& overrides, int threads)
+    : impl_(std::make_unique<Impl>(dir, scene, overrides, threads)) {
+  impl_->video = overrides.video;
+}
+
+RunRenderer::~RunRenderer() = default;
+
+void RunRenderer::clear() {
+  const fs::path dir(impl_->seq.dir);
+  fs::remove_all(dir / "render");
+  fs::remove(dir / "preview.mp4");
+}
+
+void RunRenderer::resume(int frame) {
+  Sequence& seq = impl_->seq;
+  make_directories((fs::path(seq.dir) / "render").string());
+  for (const FrameFile& f : list_frames(seq.dir)) {
+    if (f.frame > frame) break;
+    const PointTable table = read_frame(f.path);
+    if (!seq.stage) seq.fit(table);  // frame 0: the camera of the uninterrupted run
+    seq.see_speed(table);
+    if (!fs::exists(png_path(seq.dir, f.frame))) seq.draw(f.frame, table);
+  }
+}
+
+void RunRenderer::render(int frame, const PointTable& table) {
+  Sequence& seq = impl_->seq;
+  if (!seq.stage) make_directories((fs::path(seq.dir) / "render").string());
+  seq.see_speed(table);
+  seq.draw(frame, table);
+}
+
+std::string RunRenderer::finish() {
+  Sequence& seq = impl_->seq;
+  std::vector<int> frames;
+  for (const FrameFile& f : list_frames(seq.dir))
+    if (fs::exists(png_path(seq.dir, f.frame))) frames.push_back(f.frame);
+  const std::string pictures = (fs::path(seq.dir) / "render").string();
+  if (frames.empty() || !impl_->video)
+    return "rendered " + std::to_string(frames.size()) + " frames to " + pictures;
+  const std::string video = encode_video(seq.dir, frames, seq.frame_dt, impl_->threads);
+  return "rendered " + std::to_string(frames.size()) + " frames to " + pictures +
+         (video.empty() ? "" : "; video " + video);
+}
+
+}  // namespace tear

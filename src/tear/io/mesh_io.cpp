@@ -1,0 +1,388 @@
+#include "tear/io/mesh_io.h"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <sstream>
+#include <stdexcept>
+
+namespace tear {
+
+namespace {
+
+constexpr bool kHostLittleEndian = __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__;
+
+template <class T>
+void append_le(std::string* out, T value) {
+  char b[sizeof(T)];
+  std::memcpy(b, &value, sizeof(T));
+  if constexpr (!kHostLittleEndian) std::reverse(b, b + sizeof(T));
+  out->append(b, sizeof(T));
+}
+
+template <class T>
+double load_le(const char* p) {
+  char b[sizeof(T)];
+  std::memcpy(b, p, sizeof(T));
+  if constexpr (!kHostLittleEndian) std::reverse(b, b + sizeof(T));
+  T value;
+  std::memcpy(&value, b, sizeof(T));
+  return double(value);
+}
+
+// Shortest text that reads back as the same float.
+void append_float(std::string* out, float value) {
+  char buf[32];
+  const std::to_chars_result r = std::to_chars(buf, buf + sizeof(buf), value);
+  out->append(buf, r.ptr);
+}
+
+void check_indices(const TriMesh& mesh, const char* format) {
+  const int64_t n = int64_t(mesh.vertices.size());
+  for (size_t t = 0; t < mesh.triangles.size(); ++t)
+    for (int32_t i : mesh.triangles[t])
+      if (i < 0 || i >= n)
+        throw std::runtime_error(std::string(format) + ": triangle " + std::to_string(t) +
+                                 " has vertex index " + std::to_string(i) + " of " +
+                                 std::to_string(n) + " vertices");
+}
+
+// ---- OBJ -----------------------------------------------------------------------------------
+
+[[noreturn]] void obj_fail(size_t line, const std::string& why) {
+  throw std::runtime_error("bad OBJ: line " + std::to_string(line) + ": " + why);
+}
+
+// One "i", "i/t", "i//n" or "i/t/n" face corner: the 0-based vertex index (negative indices
+// count back from the last vertex read so far).
+int32_t obj_corner(const std::string& word, size_t vertices, size_t line) {
+  const std::string index = word.substr(0, word.find('/'));
+  long long i = 0;
+  const char* end = index.data() + index.size();
+  const std::from_chars_result r = std::from_chars(index.data(), end, i);
+  if (index.empty() || r.ec != std::errc() || r.ptr != end)
+    obj_fail(line, "face corner '" + word + "' is not a vertex index");
+  const long long n = (long long)vertices;
+  const long long zero_based = i > 0 ? i - 1 : n + i;
+  if (i == 0 || zero_based < 0 || zero_based >= n)
+    obj_fail(line, "vertex index " + std::to_string(i) + " out of range (" + std::to_string(n) +
+                       " vertices so far)");
+  return int32_t(zero_based);
+}
+
+// ---- PLY -----------------------------------------------------------------------------------
+
+enum class Scalar { I8, U8, I16, U16, I32, U32, F32, F64 };
+
+bool parse_scalar(const std::string& name, Scalar* s, size_t* size) {
+  static const struct {
+    const char* a;
+    const char* b;
+    Scalar s;
+    size_t size;
+  } kTypes[] = {{"char", "int8", Scalar::I8, 1},      {"uchar", "uint8", Scalar::U8, 1},
+                {"short", "int16", Scalar::I16, 2},   {"ushort", "uint16", Scalar::U16, 2},
+                {"int", "int32", Scalar::I32, 4},     {"uint", "uint32", Scalar::U32, 4},
+                {"float", "float32", Scalar::F32, 4}, {"double", "float64", Scalar::F64, 8}};
+  for (const auto& t : kTypes)
+    if (name == t.a || name == t.b) {
+      *s = t.s;
+      *size = t.size;
+      return true;
+    }
+  return false;
+}
+
+[[noreturn]] void ply_fail(const std::string& why) {
+  throw std::runtime_error("bad PLY mesh: " + why);
+}
+
+struct Property {
+  std::string name;
+  bool list = false;
+  Scalar count_type = Scalar::U8, type = Scalar::F32;
+  size_t count_size = 1, size = 4;
+};
+
+struct Element {
+  std::string name;
+  size_t count = 0;
+  std::vector<Property> properties;
+};
+
+// Where a value is, for error messages (built only when one is thrown).
+struct Place {
+  const Element* element = nullptr;
+  size_t row = 0;
+  const Property* property = nullptr;
+  std::string text() const {
+    return element->name + " " + std::to_string(row) + ", property '" + property->name + "'";
+  }
+};
+
+// The body of a PLY file, value by value, in either encoding.
+class PlyBody {
+ public:
+  PlyBody(const std::string& bytes, size_t pos, bool binary)
+      : bytes_(bytes), pos_(pos), binary_(binary) {}
+
+  double next(Scalar s, size_t size, const Place& at) {
+    if (!binary_) return next_text(at);
+    if (bytes_.size() - pos_ < size) ply_fail("truncated data at " + at.text());
+    const char* p = bytes_.data() + pos_;
+    pos_ += size;
+    switch (s) {
+      case Scalar::I8: return load_le<int8_t>(p);
+      case Scalar::U8: return load_le<uint8_t>(p);
+      case Scalar::I16: return load_le<int16_t>(p);
+      case Scalar::U16: return load_le<uint16_t>(p);
+      case Scalar::I32: return load_le<int32_t>(p);
+      case Scalar::U32: return load_le<uint32_t>(p);
+      case Scalar::F32: return load_le<float>(p);
+      case Scalar::F64: return load_le<double>(p);
+    }
+    return 0;
+  }
+  size_t remaining() const { return bytes_.size() - pos_; }
+
+ private:
+  double next_text(const Place& at) {
+    const char* p = bytes_.c_str() + pos_;
+    char* end = nullptr;
+    const double v = std::strtod(p, &end);
+    if (end == p || (*end != '\0' && !std::isspace(static_cast<unsigned char>(*end))))
+      ply_fail("truncated or non-numeric ascii data at " + at.text());
+    pos_ = size_t(end - bytes_.c_str());
+    return v;
+  }
+
+  const std::string& bytes_;
+  size_t pos_;
+  bool binary_;
+};
+
+// An integer index or count read from the file: whole and in [0, limit).
+int64_t whole(double v, double limit, const Place& at, const char* what) {
+  if (!(v >= 0 && v < limit) || v != std::floor(v)) {
+    std::ostringstream why;
+    why << at.text() << ": " << what << " " << v << ", expected an integer in [0, "
+        << int64_t(limit) << ")";
+    ply_fail(why.str());
+  }
+  return int64_t(v);
+}
+
+}  // namespace
+
+std::string encode_obj(const TriMesh& mesh) {
+  check_indices(mesh, "OBJ");
+  std::string out = "# written by tear: " + std::to_string(mesh.vertices.size()) + " vertices, " +
+                    std::to_string(mesh.triangles.size()) + " triangles\n";
+  out.reserve(out.size() + mesh.vertices.size() * 32 + mesh.triangles.size() * 24);
+  for (const Eigen::Vector3f& v : mesh.vertices) {
+    out += 'v';
+    for (int a = 0; a < 3; ++a) {
+      out += ' ';
+      append_float(&out, v[a]);
+    }
+    out += '\n';
+  }
+  char buf[16];
+  for (const auto& t : mesh.triangles) {
+    out += 'f';
+    for (int32_t i : t) {
+      out += ' ';
+      out.append(buf, std::to_chars(buf, buf + sizeof(buf), int64_t(i) + 1).ptr);
+    }
+    out += '\n';
+  }
+  return out;
+}
+
+std::string encode_mesh_ply(const TriMesh& mesh) {
+  check_indices(mesh, "PLY");
+  std::string out =
+      "ply\nformat binary_little_endian 1.0\ncomment written by tear\nelement vertex " +
+      std::to_string(mesh.vertices.size()) +
+      "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+      std::to_string(mesh.triangles.size()) +
+      "\nproperty list uchar int vertex_indices\nend_header\n";
+  out.reserve(out.size() + mesh.vertices.size() * 12 + mesh.triangles.size() * 13);
+  for (const Eigen::Vector3f& v : mesh.vertices)
+    for (int a = 0; a < 3; ++a) append_le(&out, v[a]);
+  for (const auto& t : mesh.triangles) {
+    append_le(&out, uint8_t(3));
+    for (int32_t i : t) append_le(&out, i);
+  }
+  return out;
+}
+
+TriMesh decode_obj(const std::string& text) {
+  TriMesh mesh;
+  std::istringstream in(text);
+  std::string line;
+  size_t number = 0;
+  std::vector<int32_t> corners;
+  while (std::getline(in, line)) {
+    ++number;
+    std::istringstream ls(line);
+    std::string word;
+    ls >> word;
+    if (word == "v") {
+      Eigen::Vector3f p;
+      for (int a = 0; a < 3; ++a) {
+        std::string value;
+        ls >> value;
+        char* end = nullptr;
+        p[a] = std::strtof(value.c_str(), &end);
+        if (value.empty() || *end != '\0')
+          obj_fail(number, "vertex needs three numbers ('" + line + "')");
+      }
+      mesh.vertices.push_back(p);
+    } else if (word == "f") {
+      corners.clear();
+      for (std::string c; ls >> c;) corners.push_back(obj_corner(c, mesh.vertices.size(), number));
+      if (corners.size() < 3)
+        obj_fail(number, "face with " + std::to_string(corners.size()) + " corners");
+      for (size_t k = 1; k + 1 < corners.size(); ++k)
+        mesh.triangles.push_back({corners[0], corners[k], corners[k + 1]});
+    } else if (word.empty() || word[0] == '#' || word == "vn" || word == "vt" || word == "vp" ||
+               word == "o" || word == "g" || word == "s" || word == "usemtl" || word == "mtllib" ||
+               word == "l" || word == "p") {
+      continue;
+    } else {
+      obj_fail(number, "unknown statement '" + word + "'");
+    }
+  }
+  return mesh;
+}
+
+TriMesh decode_mesh_ply(const std::string& bytes) {
+  if (bytes.compare(0, 4, "ply\n") != 0 && bytes.compare(0, 5, "ply\r\n") != 0)
+    ply_fail("does not start with 'ply'");
+  size_t pos = bytes.find('\n') + 1;
+  std::string format;
+  std::vector<Element> elements;
+  bool ended = false;
+  while (!ended && pos < bytes.size()) {
+    size_t eol = bytes.find('\n', pos);
+    if (eol == std::string::npos) eol = bytes.size();
+    std::string line = bytes.substr(pos, eol - pos);
+    pos = eol + 1;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream ls(line);
+    std::string word;
+    ls >> word;
+    if (word.empty() || word == "comment" || word == "obj_info") continue;
+    if (word == "end_header") {
+      if (eol == bytes.size()) ply_fail("no line break after end_header");
+      ended = true;
+    } else if (word == "format") {
+      if (!format.empty()) ply_fail("two format lines");
+      ls >> format;
+    } else if (word == "element") {
+      Element e;
+      std::string count;
+      ls >> e.name >> count;
+      if (count.empty() || count.size() > 18 ||
+          !std::all_of(count.begin(), count.end(), [](char c) { return c >= '0' && c <= '9'; }))
+        ply_fail("element '" + e.name + "' without a valid count");
+      e.count = size_t(std::strtoull(count.c_str(), nullptr, 10));
+      elements.push_back(e);
+    } else if (word == "property") {
+      if (elements.empty()) ply_fail("property before any element");
+      Property p;
+      std::string type;
+      ls >> type;
+      if (type == "list") {
+        std::string count_type;
+        p.list = true;
+        ls >> count_type >> type;
+        if (!parse_scalar(count_type, &p.count_type, &p.count_size))
+          ply_fail("unknown list count type '" + count_type + "'");
+      }
+      if (!parse_scalar(type, &p.type, &p.size)) ply_fail("unknown property type '" + type + "'");
+      ls >> p.name;
+      if (p.name.empty()) ply_fail("property without a name ('" + line + "')");
+      elements.back().properties.push_back(p);
+    } else {
+      ply_fail("unexpected header line '" + line + "'");
+    }
+  }
+  if (!ended) ply_fail("no end_header line");
+  if (format != "binary_little_endian" && format != "ascii")
+    ply_fail(format.empty()
+                 ? "no format line"
+                 : "unsupported format '" + format + "' (binary_little_endian and ascii are read)");
+  const bool binary = format == "binary_little_endian";
+
+  bool seen_vertex = false, seen_face = false;
+  for (const Element& e : elements) {
+    if (e.name == "vertex") {
+      if (seen_vertex) ply_fail("two vertex elements");
+      seen_vertex = true;
+      for (const char* axis : {"x", "y", "z"})
+        if (std::none_of(e.properties.begin(), e.properties.end(),
+                         [&](const Property& p) { return p.name == axis && !p.list; }))
+          ply_fail(std::string("vertex element has no scalar property '") + axis + "'");
+    } else if (e.name == "face") {
+      if (seen_face) ply_fail("two face elements");
+      seen_face = true;
+      if (std::none_of(e.properties.begin(), e.properties.end(), [](const Property& p) {
+            return p.list && (p.name == "vertex_indices" || p.name == "vertex_index");
+          }))
+        ply_fail("face element has no list property 'vertex_indices'");
+    }
+  }
+  if (!seen_vertex) ply_fail("no vertex element");
+  if (!seen_face) ply_fail("no face element");
+
+  TriMesh mesh;
+  PlyBody body(bytes, pos, binary);
+  std::vector<int32_t> corners;
+  for (const Element& e : elements) {
+    // Every row takes at least a byte (binary) or two characters (ascii): checked before
+    // allocating, so a corrupt count cannot ask for terabytes.
+    if (!e.properties.empty() && e.count > body.remaining())
+      ply_fail("truncated: element '" + e.name + "' has " + std::to_string(e.count) +
+               " rows, found " + std::to_string(body.remaining()) + " bytes of data");
+    if (e.name == "vertex") mesh.vertices.resize(e.count);
+    if (e.name == "face") mesh.triangles.reserve(e.count);
+    Place at;
+    at.element = &e;
+    for (size_t row = 0; row < e.count; ++row) {
+      at.row = row;
+      for (const Property& p : e.properties) {
+        at.property = &p;
+        if (!p.list) {
+          const double v = body.next(p.type, p.size, at);
+          if (e.name == "vertex" && p.name.size() == 1 && p.name[0] >= 'x' && p.name[0] <= 'z')
+            mesh.vertices[row][p.name[0] - 'x'] = float(v);
+          continue;
+        }
+        const int64_t n = whole(body.next(p.count_type, p.count_size, at), 1e9, at, "list count");
+        const bool indices =
+            e.name == "face" && (p.name == "vertex_indices" || p.name == "vertex_index");
+        if (indices) {
+          if (n < 3)
+            ply_fail("face " + std::to_string(row) + " has " + std::to_string(n) + " corners");
+          corners.clear();
+        }
+        for (int64_t k = 0; k < n; ++k) {
+          const double v = body.next(p.type, p.size, at);
+          if (indices)
+            corners.push_back(int32_t(whole(v, double(mesh.vertices.size()), at, "vertex index")));
+        }
+        if (indices)
+          for (size_t k = 1; k + 1 < corners.size(); ++k)
+            mesh.triangles.push_back({corners[0], corners[k], corners[k + 1]});
+      }
+    }
+  }
+  return mesh;
+}
+
+}  // namespace tear

@@ -1,0 +1,30 @@
+// io/: triangle meshes on disk (OBJ, and PLY with a face element), as `tear mesh` writes them.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace tear {
+
+struct TriMesh {
+  std::vector<Eigen::Vector3f> vertices;
+  std::vector<std::array<int32_t, 3>> triangles;  // counter-clockwise seen from outside
+};
+
+// Wavefront OBJ ("v x y z" and "f i j k", 1-based), text. Coordinates are written in the
+// shortest form that reads back to the same float.
+std::string encode_obj(const TriMesh& mesh);
+// Binary little-endian PLY: element vertex (float x y z), element face (list uchar int
+// vertex_indices).
+std::string encode_mesh_ply(const TriMesh& mesh);
+// Read what encode_obj / encode_mesh_ply write, and more: OBJ with "i/t/n" and negative
+// indices (other statements ignored), PLY in ascii or binary_little_endian with any scalar
+// types and extra properties. Polygons are split into triangle fans. Throw std::runtime_error
+// with the reason (and the line or face) on malformed input.
+TriMesh decode_obj(const std::string& text);
+TriMesh decode_mesh_ply(const std::string& bytes);
+
+}  // namespace tear

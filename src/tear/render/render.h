@@ -1,0 +1,93 @@
+// render/: the headless preview renderer behind `tear render` and `tear run --render`: frames
+// (point tables) ray traced with Embree as spheres or as their surface mesh, lit by a soft key
+// light and a sky with ambient occlusion over a ground plane, with a legend; PNG out, video via
+// ffmpeg (video.h). Knows point tables and meshes; knows nothing of scenes, grids or solvers.
+#pragma once
+
+#include <Eigen/Core>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "tear/io/point_table.h"
+#include "tear/render/camera.h"
+#include "tear/render/image.h"
+
+namespace tear {
+
+// What the particles are coloured by.
+enum class ColorBy { Damage, Material, Fibers, Velocity };
+
+// "damage", "material", "fibers", "velocity".
+const char* color_by_name(ColorBy c);
+// The inverse; throws std::invalid_argument naming the choices.
+ColorBy parse_color_by(const std::string& name);
+
+// What the renderer knows about a run beyond its frames (the driver fills it from scene.json).
+struct RenderLook {
+  int dim = 3;
+  Eigen::Vector3d up = Eigen::Vector3d::UnitY();  // unit; "above" for the ground and the camera
+  bool falls = false;          // gravity acts: the camera also frames the ground below the body
+  std::vector<double> floors;  // heights (along `up`) of planes the particles cannot pass
+  std::vector<double> material_radius;      // sphere radius per material index
+  double radius = 0.01;                     // sphere radius of other materials
+  double spacing = 0.02;                    // particle spacing (surface mesher)
+  std::vector<std::string> material_names;  // by material index, for the legend
+};
+
+struct RenderSettings {
+  int width = 960, height = 540;
+  int samples = 4;  // per pixel (antialiasing, soft shadow and ambient occlusion samples)
+  ColorBy color = ColorBy::Damage;
+  bool surface = false;  // trace the surface mesh (surface/mesher.h) instead of spheres
+  double radius = 0;     // > 0: this sphere radius for every particle
+  // Camera: unset parts are fitted to the first frame (fit_stage).
+  std::optional<Eigen::Vector3d> camera_position, camera_target, camera_up;
+  double fov_deg = 40;      // vertical field of view
+  double velocity_max = 1;  // speed at the top of the velocity map (the driver scales it)
+};
+
+// The parts of a picture that stay fixed over a sequence: fitted to its first frame.
+struct Stage {
+  Camera camera;
+  double ground = 0;  // height of the ground plane along RenderLook::up
+  double size = 1;    // diagonal of the first frame's bounding box (sets fog and AO reach)
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+};
+
+// Fits the camera (unless the settings fix it) so that every particle of `first` is inside the
+// picture with a margin: 2D looks along -z at the plane, 3D from an elevated three-quarter view.
+// The ground goes on the highest floor below the body, else a little below its lowest point.
+Stage fit_stage(const PointTable& first, const RenderLook& look, const RenderSettings& settings);
+
+// Sphere radius of each point (settings.radius, else by material).
+std::vector<float> particle_radii(const PointTable& frame, const RenderLook& look,
+                                  const RenderSettings& settings);
+
+// Ray traces frames. Owns the Embree device; one per sequence. Deterministic: the same input
+// gives the same pixels for any thread count (each pixel's samples are seeded by its position).
+class Renderer {
+ public:
+  Renderer();
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  // One picture of `frame` with the legend of settings.color and `caption` (top left) drawn in.
+  // Throws std::runtime_error when a column the colour map needs is missing.
+  Image render(const PointTable& frame, const RenderLook& look, const Stage& stage,
+               const RenderSettings& settings, const std::string& caption = "") const;
+
+ private:
+  struct Device;
+  std::unique_ptr<Device> device_;
+};
+
+// Whether this build has the surface mesher that RenderSettings::surface needs.
+bool surface_rendering_available();
+
+// Largest speed |(vx, vy, vz)| in a frame (0 without velocity columns).
+double max_speed(const PointTable& frame);
+
+}  // namespace tear

@@ -1,0 +1,171 @@
+// End-to-end tests of `tear render` and `tear run --render`: pictures and video in the run
+// folder, options over the scene's render section, determinism, resume, bad input.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+
+#include "cli_fixture.h"
+#include "tear/io/atomic_file.h"
+#include "tear/render/image.h"
+
+namespace tear {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool have_ffmpeg() { return std::system("ffmpeg -version > /dev/null 2>&1") == 0; }
+
+class RenderCli : public Cli {
+ protected:
+  // A finished small run (frames 0..4) in path("run").
+  std::string run_folder(json scene_json = json()) {
+    if (scene_json.is_null()) scene_json = scene();
+    const std::string s = write_scene(scene_json);
+    EXPECT_EQ(tear("run " + s + " -o " + path("run") + " -q"), 0) << err_;
+    return path("run");
+  }
+  Image picture(const std::string& file) const { return decode_png(read_file(file)); }
+};
+
+constexpr const char* kSmall = " --width 96 --height 64 --samples 1";
+
+TEST_F(RenderCli, RenderWritesAPicturePerFrameAndTheVideo) {
+  const std::string run = run_folder();
+  ASSERT_EQ(tear("render " + run + kSmall + " --threads 2"), 0) << err_;
+  for (int f = 0; f <= 4; ++f) {
+    const std::string png = run + "/render/0000" + std::to_string(f) + ".png";
+    ASSERT_TRUE(fs::exists(png)) << png;
+    const Image im = picture(png);
+    EXPECT_EQ(im.width, 96);
+    EXPECT_EQ(im.height, 64);
+  }
+  EXPECT_NE(out_.find("rendered 5 frames (96x64, damage)"), std::string::npos) << out_;
+  EXPECT_NE(err_.find("render 5/5"), std::string::npos) << err_;  // progress on stderr
+  if (!have_ffmpeg()) GTEST_SKIP() << "ffmpeg is not on PATH: no preview.mp4 expected";
+  ASSERT_TRUE(fs::exists(run + "/preview.mp4"));
+  EXPECT_EQ(read_file(run + "/preview.mp4").substr(4, 4), "ftyp");
+  EXPECT_EQ(std::distance(fs::directory_iterator(run + "/render"), fs::directory_iterator{}), 5);
+}
+
+TEST_F(RenderCli, SameBytesForOneAndTwoThreadsAndFrameRanges) {
+  const std::string run = run_folder();
+  ASSERT_EQ(tear("render " + run + kSmall + " --threads 1 --no-video -q --frames 1:3"), 0) << err_;
+  EXPECT_FALSE(fs::exists(run + "/render/00000.png"));
+  EXPECT_FALSE(fs::exists(run + "/render/00004.png"));
+  EXPECT_FALSE(fs::exists(run + "/preview.mp4"));
+  EXPECT_EQ(err_, "");
+  const std::string one = read_file(run + "/render/00003.png");
+  ASSERT_EQ(tear("render " + run + kSmall + " --threads 2 --no-video -q --frames 1:3"), 0);
+  EXPECT_EQ(read_file(run + "/render/00003.png"), one);
+  // Another colour map gives another picture.
+  ASSERT_EQ(tear("render " + run + kSmall + " --no-video -q --frames 3 --color velocity"), 0);
+  EXPECT_NE(read_file(run + "/render/00003.png"), one);
+}
+
+TEST_F(RenderCli, SceneRenderSectionIsTheDefaultAndOptionsOverrideIt) {
+  json s = scene();
+  s["render"] = json::parse(R"({"width": 80, "height": 48, "samples": 1, "color": "fibers"})");
+  const std::string run = run_folder(s);
+  ASSERT_EQ(tear("render " + run + " --no-video --frames 0"), 0) << err_;
+  EXPECT_EQ(picture(run + "/render/00000.png").width, 80);
+  EXPECT_NE(out_.find("(80x48, fibers)"), std::string::npos) << out_;
+  ASSERT_EQ(tear("render " + run + " --no-video --frames 0 --width 64 --color material"), 0);
+  const Image im = picture(run + "/render/00000.png");
+  EXPECT_EQ(im.width, 64);
+  EXPECT_EQ(im.height, 48);
+  EXPECT_NE(out_.find("(64x48, material)"), std::string::npos) << out_;
+  // A given camera is used as is.
+  ASSERT_EQ(tear("render " + run +
+                 " --no-video --frames 0 --camera-position=0.5,0.5,3 --camera-target 0.5,0.5,0"
+                 " --fov 20"),
+            0)
+      << err_;
+  EXPECT_NE(err_.find("camera 0.5,0.5,3  target 0.5,0.5,0  fov 20"), std::string::npos) << err_;
+}
+
+TEST_F(RenderCli, RunRenderRendersEveryWrittenFrameAndResumes) {
+  json s = scene();
+  s["output"]["every"] = 2;  // frames 0, 2, 4
+  const std::string scene_path = write_scene(s);
+  ASSERT_EQ(tear("run " + scene_path + " -o " + path("full") + " -q --render" + kSmall), 0) << err_;
+  for (int f : {0, 2, 4})
+    EXPECT_TRUE(fs::exists(path("full/render/0000" + std::to_string(f) + ".png")));
+  EXPECT_FALSE(fs::exists(path("full/render/00001.png")));
+  EXPECT_NE(out_.find("rendered 3 frames"), std::string::npos) << out_;
+  if (have_ffmpeg()) {
+    EXPECT_TRUE(fs::exists(path("full/preview.mp4")));
+  }
+  // The pictures of run --render are those of tear render.
+  const std::string during = read_file(path("full/render/00004.png"));
+  ASSERT_EQ(tear("render " + path("full") + kSmall + " --no-video -q"), 0) << err_;
+  EXPECT_EQ(read_file(path("full/render/00004.png")), during);
+
+  // Interrupted at frame 2 without pictures, resumed with --render: the missing pictures are
+  // made and every one equals the uninterrupted run's.
+  ASSERT_EQ(tear("run " + scene_path + " -o " + path("part") + " -q --frames 2"), 0) << err_;
+  ASSERT_EQ(tear("run " + scene_path + " -o " + path("part") + " -q --frames 4 --resume --render" +
+                 kSmall + " --no-video"),
+            0)
+      << err_;
+  for (int f : {0, 2, 4}) {
+    const std::string name = "/render/0000" + std::to_string(f) + ".png";
+    ASSERT_TRUE(fs::exists(path("part") + name)) << name;
+    EXPECT_EQ(read_file(path("part") + name), read_file(path("full") + name)) << name;
+  }
+  EXPECT_FALSE(fs::exists(path("part/preview.mp4")));  // --no-video
+}
+
+TEST_F(RenderCli, MissingFfmpegWarnsAndKeepsThePictures) {
+  const std::string run = run_folder();
+  const char* old = std::getenv("PATH");
+  const std::string saved = old ? old : "";
+  setenv("PATH", "/nonexistent-tear-test", 1);
+  const int code = tear("render " + run + kSmall + " -q");
+  setenv("PATH", saved.c_str(), 1);
+  EXPECT_EQ(code, 0) << err_;
+  EXPECT_NE(err_.find("tear: warning: ffmpeg not found on PATH"), std::string::npos) << err_;
+  EXPECT_TRUE(fs::exists(run + "/render/00004.png"));
+  EXPECT_FALSE(fs::exists(run + "/preview.mp4"));
+}
+
+TEST_F(RenderCli, BadInputIsAClearOneLineError) {
+  const std::string run = run_folder();
+  fs::create_directories(path("empty"));
+  fs::create_directories(path("noscene"));
+  fs::copy(run + "/frames", path("noscene/frames"));
+  struct Case {
+    std::string args;
+    int code;
+    std::string message;
+  };
+  const Case cases[] = {
+      {"render " + path("nowhere"), 1, "tear: " + path("nowhere") + ": no such folder"},
+      {"render " + path("empty"), 1, path("empty") + ": no frames/ folder"},
+      {"render " + path("noscene"), 1, path("noscene") + "/scene.json: missing"},
+      {"render " + run + " --frames 7:", 1, "tear: " + run + ": no frames in --frames 7:"},
+      {"render " + run + " --frames 3:1", 2, "--frames \"3:1\": expected A:B"},
+      {"render " + run + " --color rainbow", 2, "--color"},
+      {"render " + run + " --width 4", 2, "--width"},
+      {"render " + run + " --samples 0", 2, "--samples"},
+      {"render " + run + " --camera-position 1,2", 2, "--camera-position"},
+      {"render " + run + " --camera-up=0,0,0", 1, "--camera-up: must be non-zero"},
+      {"render", 2, "dir is required"},
+      {"run " + write_scene(scene()) + " -o " + path("x") + " --color damage", 2, "--render"},
+  };
+  for (const Case& c : cases) {
+    EXPECT_EQ(tear(c.args), c.code) << c.args << "\n" << err_;
+    EXPECT_NE(err_.find(c.message), std::string::npos) << c.args << "\n" << err_;
+    if (c.code == 1) {
+      EXPECT_EQ(std::count(err_.begin(), err_.end(), '\n'), 1) << err_;
+    }
+  }
+  EXPECT_FALSE(fs::exists(path("x")));
+  // A frame file that is not a PLY: the file and the reason.
+  write_file_atomic(run + "/frames/00002.ply", "garbage");
+  EXPECT_EQ(tear("render " + run + kSmall + " --no-video -q"), 1);
+  EXPECT_NE(err_.find(run + "/frames/00002.ply"), std::string::npos) << err_;
+}
+
+}  // namespace
+}  // namespace tear
