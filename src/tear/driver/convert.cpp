@@ -1,5 +1,7 @@
 #include "tear/driver/convert.h"
 
+#include "tear/driver/command.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -16,14 +18,6 @@ namespace tear {
 namespace fs = std::filesystem;
 
 namespace {
-
-// "tear: reason" on stderr.
-int fail(std::string why, int code = 1) {
-  for (char& c : why)
-    if (c == '\n' || c == '\r') c = ' ';
-  std::fprintf(stderr, "tear: %s\n", why.c_str());
-  return code;
-}
 
 bool known_format(const std::string& format) {
   const std::vector<std::string>& known = point_formats();
@@ -50,11 +44,9 @@ std::map<int, double> frame_times(const std::vector<std::string>& stats_lines) {
 ConvertCounts convert_frames(const std::string& dir, const std::string& format,
                              const FrameRange& range) {
   if (!known_format(format)) throw std::runtime_error(unknown_format(dir, format));
-  std::error_code ec;
-  if (!fs::is_directory(dir, ec)) throw std::runtime_error(dir + ": no such folder");
   ConvertCounts counts;
-  for (const FrameFile& f : list_frames(dir)) {
-    if (!range.contains(f.frame)) continue;
+  std::error_code ec;
+  for (const FrameFile& f : frames_in_range(dir, range)) {
     const std::string target = frame_path(dir, f.frame, format);
     if (fs::exists(target, ec)) {
       ++counts.skipped;
@@ -63,10 +55,6 @@ ConvertCounts convert_frames(const std::string& dir, const std::string& format,
     write_file_atomic(target, encode_points(read_frame(f.path), format));
     ++counts.converted;
   }
-  if (counts.converted + counts.skipped == 0)
-    throw std::runtime_error(dir + ": no frames" +
-                             (range.first == 0 && range.last < 0 ? std::string(" to convert")
-                                                                 : " in the --frames range"));
   if (format == "vtu") {
     // Frame times from the run's stats (the frame number stands in where they are missing).
     std::vector<std::string> lines;

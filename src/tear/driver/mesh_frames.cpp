@@ -1,6 +1,7 @@
 #include "tear/driver/mesh_frames.h"
 
-#include <tbb/global_control.h>
+#include "tear/driver/command.h"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -23,14 +24,6 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 namespace {
-
-// "tear: reason" on stderr.
-int fail(std::string why, int code = 1) {
-  for (char& c : why)
-    if (c == '\n' || c == '\r') c = ' ';
-  std::fprintf(stderr, "tear: %s\n", why.c_str());
-  return code;
-}
 
 std::string mesh_path(const std::string& dir, int frame, const std::string& format) {
   char name[32];
@@ -76,19 +69,9 @@ int mesh_frames(const MeshFramesOptions& o) {
   for (const std::string& f : o.formats)
     if (f != "obj" && f != "ply") return fail("--format " + f + ": must be obj or ply");
   try {
-    std::unique_ptr<tbb::global_control> limit;
-    if (o.threads > 0)
-      limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                    size_t(o.threads));
+    const auto limit = limit_threads(o.threads);
     const Clock::time_point start = Clock::now();
-    std::error_code ec;
-    if (!fs::is_directory(o.dir, ec)) return fail(o.dir + ": no such folder");
-    const std::vector<FrameFile> all = list_frames(o.dir);
-    std::vector<FrameFile> files;
-    for (const FrameFile& f : all)
-      if (range.contains(f.frame)) files.push_back(f);
-    if (files.empty())
-      return fail(o.dir + ": no frames" + (o.frames.empty() ? "" : " in --frames " + o.frames));
+    const std::vector<FrameFile> files = frames_in_range(o.dir, range);
     // One spacing for every frame, that of the particles as sampled, so that stretching does
     // not make later surfaces fatter: from the run's scene, else from its first frame.
     if (mesh_options.spacing == 0) {
@@ -98,10 +81,10 @@ int mesh_frames(const MeshFramesOptions& o) {
         mesh_options.spacing = scene_spacing(load_scene(scene_path));
         source = "dx / ppc^(1/dim) in " + scene_path;
       } else {
-        mesh_options.spacing = estimate_spacing(read_frame(all.front().path));
-        source = "median nearest-neighbour distance in frame " + std::to_string(all.front().frame);
+        mesh_options.spacing = estimate_spacing(read_frame(files.front().path));
+        source = "median nearest-neighbour distance in frame " + std::to_string(files.front().frame);
         if (!(mesh_options.spacing > 0))
-          return fail(all.front().path + ": cannot estimate the particle spacing (fewer than " +
+          return fail(files.front().path + ": cannot estimate the particle spacing (fewer than " +
                       "two distinct points); give --spacing");
       }
       if (!o.quiet) std::fprintf(stderr, "spacing %g (%s)\n", mesh_options.spacing, source.c_str());

@@ -1,6 +1,7 @@
 #include "tear/driver/render_frames.h"
 
-#include <tbb/global_control.h>
+#include "tear/driver/command.h"
+
 #include <unistd.h>
 
 #include <Eigen/Geometry>
@@ -174,22 +175,6 @@ struct Sequence {
   }
 };
 
-// "tear: reason" on stderr.
-int fail(std::string why, int code = 1) {
-  for (char& c : why)
-    if (c == '\n' || c == '\r') c = ' ';
-  std::fprintf(stderr, "tear: %s\n", why.c_str());
-  return code;
-}
-
-std::string clock_text(double seconds) {
-  if (!std::isfinite(seconds) || seconds < 0) return "--:--";
-  const long s = std::lround(seconds);
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%ld:%02ld", s / 60, s % 60);
-  return buf;
-}
-
 }  // namespace
 
 int render_frames(const RenderOptions& o) {
@@ -200,23 +185,13 @@ int render_frames(const RenderOptions& o) {
     return fail(e.what(), 2);
   }
   try {
-    std::unique_ptr<tbb::global_control> limit;
-    if (o.threads > 0)
-      limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                    size_t(o.threads));
+    const auto limit = limit_threads(o.threads);
     const Clock::time_point start = Clock::now();
-    std::error_code ec;
-    if (!fs::is_directory(o.dir, ec)) return fail(o.dir + ": no such folder");
-    const std::vector<FrameFile> all = list_frames(o.dir);
+    const std::vector<FrameFile> files = frames_in_range(o.dir, range);
     const std::string scene_path = (fs::path(o.dir) / "scene.json").string();
     if (!fs::exists(scene_path))
       return fail(scene_path + ": missing (is " + o.dir + " the output folder of tear run?)");
     const Scene scene = load_scene(scene_path);
-    std::vector<FrameFile> files;
-    for (const FrameFile& f : all)
-      if (range.contains(f.frame)) files.push_back(f);
-    if (files.empty())
-      return fail(o.dir + ": no frames" + (o.frames.empty() ? "" : " in --frames " + o.frames));
     Sequence seq(o.dir, scene, o.overrides);
     if (seq.settings.color == ColorBy::Velocity && seq.auto_velocity)
       for (const FrameFile& f : files) seq.see_speed(read_frame(f.path));  // the run's top speed

@@ -1,6 +1,7 @@
 #include "tear/driver/run.h"
 
 #include "tear/damage/driving_force.h"
+#include "tear/driver/command.h"
 #include "tear/driver/convert.h"
 #include "tear/io/atomic_file.h"
 #include "tear/io/frames.h"
@@ -10,7 +11,6 @@
 
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
-#include <tbb/global_control.h>
 #include <tbb/info.h>
 #include <tbb/version.h>
 
@@ -73,17 +73,6 @@ void print_crack_onset(std::ostream& out, const Scene& s, const MaterialSpec& m)
       << ", alpha [" << m.damage.alpha[0] << ", " << m.damage.alpha[1]
       << "]; cracks start at a uniaxial stretch of " << text(across) << " across the fibers, "
       << text(along) << " along them (other directions held)\n";
-}
-
-std::string clock_text(double seconds) {
-  if (!std::isfinite(seconds) || seconds < 0) return "--:--";
-  const long s = std::lround(seconds);
-  char buf[32];
-  if (s >= 3600)
-    std::snprintf(buf, sizeof(buf), "%ld:%02ld:%02ld", s / 3600, (s / 60) % 60, s % 60);
-  else
-    std::snprintf(buf, sizeof(buf), "%ld:%02ld", s / 60, s % 60);
-  return buf;
 }
 
 // Simulated time with three decimals, or three significant digits for tiny frame times.
@@ -161,14 +150,6 @@ std::vector<std::string> stats_up_to(const std::string& path, int frame) {
   return kept;
 }
 
-// The reason as one line on stderr ("tear: reason"); exit code 1.
-int fail(std::string why) {
-  for (char& c : why)
-    if (c == '\n' || c == '\r') c = ' ';
-  std::fprintf(stderr, "tear: %s\n", why.c_str());
-  return 1;
-}
-
 // "812 KiB", "3.4 MiB": sizes for people.
 std::string size_text(double bytes) {
   const char* units[] = {"B", "KiB", "MiB", "GiB", "TiB"};
@@ -183,10 +164,7 @@ std::string size_text(double bytes) {
 
 int run_scene(const RunOptions& o) {
   try {
-    std::unique_ptr<tbb::global_control> limit;
-    if (o.threads > 0)
-      limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                    size_t(o.threads));
+    const auto limit = limit_threads(o.threads);
     const Clock::time_point start = Clock::now();
     // Everything that can be wrong with the input is found before anything is written.
     const Scene scene = load(o.scene_path, o.overrides, o.frames);

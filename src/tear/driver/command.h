@@ -1,0 +1,28 @@
+// driver/: what the `tear` commands share: the one-line error, the thread cap, the frames of a
+// run folder within a --frames range, and clock-style durations for progress lines.
+#pragma once
+
+#include <tbb/global_control.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "tear/io/frames.h"
+
+namespace tear {
+
+// Prints "tear: reason" on stderr (line breaks become spaces) and returns `code`.
+int fail(std::string why, int code = 1);
+
+// Caps TBB at `threads` threads while the result lives; 0: no cap (all cores).
+std::unique_ptr<tbb::global_control> limit_threads(int threads);
+
+// The frames of run folder `dir` within `range`, by frame number. Throws std::runtime_error
+// "DIR: no such folder", "DIR: no frames/ folder", or "DIR: no frames [in --frames A:B]".
+std::vector<FrameFile> frames_in_range(const std::string& dir, const FrameRange& range);
+
+// "m:ss", or "h:mm:ss" from an hour on; "--:--" when unknown (negative or not finite).
+std::string clock_text(double seconds);
+
+}  // namespace tear
