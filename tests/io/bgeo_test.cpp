@@ -8,34 +8,11 @@
 #include <string>
 #include <vector>
 
+#include "io_fixture.h"
 #include "tear/io/point_groups.h"
 
 namespace tear {
 namespace {
-
-// A table shaped like Simulation::frame_table() (z, vz, fz = 0 in 2D), values exact in float.
-PointTable frame_like(int dim, size_t n) {
-  PointTable t;
-  t.count = n;
-  auto col = [&](double scale, double offset, bool used) {
-    std::vector<double> c(n);
-    for (size_t i = 0; i < n; ++i) c[i] = used ? offset + scale * double(i) : 0.0;
-    return c;
-  };
-  t.add("id", ColumnType::Int32, col(1, 0, true));
-  t.add("x", ColumnType::Float32, col(0.25, 0.5, true));
-  t.add("y", ColumnType::Float32, col(-0.125, 1, true));
-  t.add("z", ColumnType::Float32, col(0.5, 0.75, dim == 3));
-  t.add("vx", ColumnType::Float32, col(1.5, -2, true));
-  t.add("vy", ColumnType::Float32, col(-0.75, 3, true));
-  t.add("vz", ColumnType::Float32, col(2, 0.25, dim == 3));
-  t.add("damage", ColumnType::Float32, col(0.0625, 0, true));
-  t.add("material", ColumnType::UInt8, col(1, 0, true));
-  t.add("fx", ColumnType::Float32, col(0, 1, true));
-  t.add("fy", ColumnType::Float32, col(0.5, 0, true));
-  t.add("fz", ColumnType::Float32, col(-0.5, 0, dim == 3));
-  return t;
-}
 
 // Every column of `a` is in `b` with the same values (order and integer widths may differ).
 void expect_same_columns(const PointTable& a, const PointTable& b) {
@@ -47,14 +24,7 @@ void expect_same_columns(const PointTable& a, const PointTable& b) {
   }
 }
 
-std::string decode_error(const std::string& bytes) {
-  try {
-    decode_bgeo(bytes);
-  } catch (const std::runtime_error& e) {
-    return e.what();
-  }
-  return "no error";
-}
+std::string decode_error(const std::string& bytes) { return error_of(decode_bgeo, bytes); }
 
 // Big-endian readers of the raw file, independent of the codec.
 int32_t be32(const std::string& s, size_t at) {
@@ -76,13 +46,7 @@ TEST(Bgeo, RoundTrips3DFrame) {
   const PointTable t = frame_like(3, 7);
   const PointTable d = decode_bgeo(encode_bgeo(t));
   expect_same_columns(t, d);
-  // Canonical order: position first, then the attributes in the table's order.
-  EXPECT_EQ(d.names, (std::vector<std::string>{"x", "y", "z", "id", "vx", "vy", "vz", "damage",
-                                               "material", "fx", "fy", "fz"}));
-  for (size_t c = 0; c < d.names.size(); ++c) {
-    const bool integer = d.names[c] == "id" || d.names[c] == "material";
-    EXPECT_EQ(d.types[c], integer ? ColumnType::Int32 : ColumnType::Float32) << d.names[c];
-  }
+  expect_canonical_frame_columns(d);
 }
 
 TEST(Bgeo, RoundTrips2DFrame) {

@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <random>
 
+#include "io_fixture.h"
+
 namespace tear {
 namespace {
 
@@ -71,14 +73,7 @@ TEST(Ply, ReadsAscii) {
 
 TEST(Ply, RejectsMalformedInput) {
   const std::string good = encode_ply(sample_table());
-  auto message = [](const std::string& bytes) {
-    try {
-      decode_ply(bytes);
-    } catch (const std::runtime_error& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
+  auto message = [](const std::string& bytes) { return error_of(decode_ply, bytes); };
   EXPECT_NE(message(good.substr(0, good.size() - 1)).find("truncated"), std::string::npos);
   EXPECT_NE(message("PLY\n").find("does not start"), std::string::npos);
   EXPECT_NE(message("ply\nformat ascii 1.0\nelement vertex 1\n").find("end_header"),

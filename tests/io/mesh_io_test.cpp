@@ -8,6 +8,8 @@
 #include <limits>
 #include <string>
 
+#include "io_fixture.h"
+
 namespace tear {
 namespace {
 
@@ -30,15 +32,6 @@ void expect_same(const TriMesh& a, const TriMesh& b) {
           << "vertex " << i << " axis " << k << ": " << a.vertices[i][k] << " vs "
           << b.vertices[i][k];
   EXPECT_EQ(a.triangles, b.triangles);
-}
-
-std::string error_of(TriMesh (*decode)(const std::string&), const std::string& bytes) {
-  try {
-    decode(bytes);
-  } catch (const std::runtime_error& e) {
-    return e.what();
-  }
-  return "no error";
 }
 
 TEST(MeshIo, ObjRoundTripIsExact) {

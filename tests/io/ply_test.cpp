@@ -8,18 +8,13 @@
 #include <string>
 #include <vector>
 
+#include "io_fixture.h"
+
 namespace tear {
 namespace {
 
 // The error message decode_ply gives for `bytes`, or "no error".
-std::string decode_error(const std::string& bytes) {
-  try {
-    decode_ply(bytes);
-  } catch (const std::runtime_error& e) {
-    return e.what();
-  }
-  return "no error";
-}
+std::string decode_error(const std::string& bytes) { return error_of(decode_ply, bytes); }
 
 template <class T>
 void append_le(std::string* out, T value) {
@@ -31,13 +26,7 @@ void append_le(std::string* out, T value) {
 }
 
 TEST(Ply, FrameHeaderIsExact) {
-  PointTable t;
-  t.count = 2;
-  t.add("id", ColumnType::Int32, {1, 0});
-  for (const char* name : {"x", "y", "z", "vx", "vy", "vz", "damage"})
-    t.add(name, ColumnType::Float32, {0.5, -0.5});
-  t.add("material", ColumnType::UInt8, {0, 1});
-  for (const char* name : {"fx", "fy", "fz"}) t.add(name, ColumnType::Float32, {1, 0});
+  const PointTable t = frame_like(3, 2);
   const std::string header =
       "ply\nformat binary_little_endian 1.0\ncomment written by tear\nelement vertex 2\n"
       "property int id\nproperty float x\nproperty float y\nproperty float z\n"

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "io_fixture.h"
 #include "tear/io/atomic_file.h"
 #include "tear/io/frames.h"
 
@@ -19,37 +20,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-PointTable frame_like(int dim, size_t n) {
-  PointTable t;
-  t.count = n;
-  auto col = [&](double scale, double offset, bool used) {
-    std::vector<double> c(n);
-    for (size_t i = 0; i < n; ++i) c[i] = used ? offset + scale * double(i) : 0.0;
-    return c;
-  };
-  t.add("id", ColumnType::Int32, col(1, 0, true));
-  t.add("x", ColumnType::Float32, col(0.25, 0.5, true));
-  t.add("y", ColumnType::Float32, col(-0.125, 1, true));
-  t.add("z", ColumnType::Float32, col(0.5, 0.75, dim == 3));
-  t.add("vx", ColumnType::Float32, col(1.5, -2, true));
-  t.add("vy", ColumnType::Float32, col(-0.75, 3, true));
-  t.add("vz", ColumnType::Float32, col(2, 0.25, dim == 3));
-  t.add("damage", ColumnType::Float32, col(0.0625, 0, true));
-  t.add("material", ColumnType::UInt8, col(1, 0, true));
-  t.add("fx", ColumnType::Float32, col(0, 1, true));
-  t.add("fy", ColumnType::Float32, col(0.5, 0, true));
-  t.add("fz", ColumnType::Float32, col(-0.5, 0, dim == 3));
-  return t;
-}
-
-std::string decode_error(const std::string& bytes) {
-  try {
-    decode_vtu(bytes);
-  } catch (const std::runtime_error& e) {
-    return e.what();
-  }
-  return "no error";
-}
+std::string decode_error(const std::string& bytes) { return error_of(decode_vtu, bytes); }
 
 fs::path fresh_dir(const std::string& name) {
   const fs::path dir = fs::path(testing::TempDir()) / name;
@@ -63,13 +34,8 @@ TEST(Vtu, RoundTrips3DAnd2DFrames) {
     const PointTable t = frame_like(dim, 9);
     const PointTable d = decode_vtu(encode_vtu(t));
     ASSERT_EQ(d.count, t.count);
-    EXPECT_EQ(d.names, (std::vector<std::string>{"x", "y", "z", "id", "vx", "vy", "vz", "damage",
-                                                 "material", "fx", "fy", "fz"}));
     for (const std::string& name : t.names) EXPECT_EQ(d.column(name), t.column(name)) << name;
-    for (size_t c = 0; c < d.names.size(); ++c) {
-      const bool integer = d.names[c] == "id" || d.names[c] == "material";
-      EXPECT_EQ(d.types[c], integer ? ColumnType::Int32 : ColumnType::Float32) << d.names[c];
-    }
+    expect_canonical_frame_columns(d);
   }
 }
 

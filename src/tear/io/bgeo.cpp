@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <cstring>
 #include <limits>
 #include <stdexcept>
 #include <vector>
 
+#include "tear/io/endian.h"
 #include "tear/io/point_groups.h"
 
 namespace tear {
@@ -15,33 +15,6 @@ namespace {
 
 // Houdini's attribute types (the ones a points-only file uses).
 constexpr int32_t kFloat = 0, kInt = 1, kIndexedString = 4, kVector = 5;
-
-constexpr bool kHostLittleEndian = __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__;
-
-template <class T>
-void store_be(char* p, T value) {
-  char b[sizeof(T)];
-  std::memcpy(b, &value, sizeof(T));
-  if constexpr (kHostLittleEndian) std::reverse(b, b + sizeof(T));
-  std::memcpy(p, b, sizeof(T));
-}
-
-template <class T>
-T load_be(const char* p) {
-  char b[sizeof(T)];
-  std::memcpy(b, p, sizeof(T));
-  if constexpr (kHostLittleEndian) std::reverse(b, b + sizeof(T));
-  T value;
-  std::memcpy(&value, b, sizeof(T));
-  return value;
-}
-
-template <class T>
-void append_be(std::string* out, T value) {
-  char b[sizeof(T)];
-  store_be(b, value);
-  out->append(b, sizeof(T));
-}
 
 [[noreturn]] void fail(const std::string& why) { throw std::runtime_error("bad BGEO: " + why); }
 

@@ -1,37 +1,18 @@
 #include "tear/io/mesh_io.h"
 
 #include <algorithm>
-#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
-#include <cstring>
 #include <sstream>
 #include <stdexcept>
+
+#include "tear/io/endian.h"
+#include "tear/io/ply_header.h"
 
 namespace tear {
 
 namespace {
-
-constexpr bool kHostLittleEndian = __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__;
-
-template <class T>
-void append_le(std::string* out, T value) {
-  char b[sizeof(T)];
-  std::memcpy(b, &value, sizeof(T));
-  if constexpr (!kHostLittleEndian) std::reverse(b, b + sizeof(T));
-  out->append(b, sizeof(T));
-}
-
-template <class T>
-double load_le(const char* p) {
-  char b[sizeof(T)];
-  std::memcpy(b, p, sizeof(T));
-  if constexpr (!kHostLittleEndian) std::reverse(b, b + sizeof(T));
-  T value;
-  std::memcpy(&value, b, sizeof(T));
-  return double(value);
-}
 
 // Shortest text that reads back as the same float.
 void append_float(std::string* out, float value) {
@@ -75,97 +56,12 @@ int32_t obj_corner(const std::string& word, size_t vertices, size_t line) {
 
 // ---- PLY -----------------------------------------------------------------------------------
 
-enum class Scalar { I8, U8, I16, U16, I32, U32, F32, F64 };
+constexpr const char* kPlyContext = "bad PLY mesh";
 
-bool parse_scalar(const std::string& name, Scalar* s, size_t* size) {
-  static const struct {
-    const char* a;
-    const char* b;
-    Scalar s;
-    size_t size;
-  } kTypes[] = {{"char", "int8", Scalar::I8, 1},      {"uchar", "uint8", Scalar::U8, 1},
-                {"short", "int16", Scalar::I16, 2},   {"ushort", "uint16", Scalar::U16, 2},
-                {"int", "int32", Scalar::I32, 4},     {"uint", "uint32", Scalar::U32, 4},
-                {"float", "float32", Scalar::F32, 4}, {"double", "float64", Scalar::F64, 8}};
-  for (const auto& t : kTypes)
-    if (name == t.a || name == t.b) {
-      *s = t.s;
-      *size = t.size;
-      return true;
-    }
-  return false;
-}
-
-[[noreturn]] void ply_fail(const std::string& why) {
-  throw std::runtime_error("bad PLY mesh: " + why);
-}
-
-struct Property {
-  std::string name;
-  bool list = false;
-  Scalar count_type = Scalar::U8, type = Scalar::F32;
-  size_t count_size = 1, size = 4;
-};
-
-struct Element {
-  std::string name;
-  size_t count = 0;
-  std::vector<Property> properties;
-};
-
-// Where a value is, for error messages (built only when one is thrown).
-struct Place {
-  const Element* element = nullptr;
-  size_t row = 0;
-  const Property* property = nullptr;
-  std::string text() const {
-    return element->name + " " + std::to_string(row) + ", property '" + property->name + "'";
-  }
-};
-
-// The body of a PLY file, value by value, in either encoding.
-class PlyBody {
- public:
-  PlyBody(const std::string& bytes, size_t pos, bool binary)
-      : bytes_(bytes), pos_(pos), binary_(binary) {}
-
-  double next(Scalar s, size_t size, const Place& at) {
-    if (!binary_) return next_text(at);
-    if (bytes_.size() - pos_ < size) ply_fail("truncated data at " + at.text());
-    const char* p = bytes_.data() + pos_;
-    pos_ += size;
-    switch (s) {
-      case Scalar::I8: return load_le<int8_t>(p);
-      case Scalar::U8: return load_le<uint8_t>(p);
-      case Scalar::I16: return load_le<int16_t>(p);
-      case Scalar::U16: return load_le<uint16_t>(p);
-      case Scalar::I32: return load_le<int32_t>(p);
-      case Scalar::U32: return load_le<uint32_t>(p);
-      case Scalar::F32: return load_le<float>(p);
-      case Scalar::F64: return load_le<double>(p);
-    }
-    return 0;
-  }
-  size_t remaining() const { return bytes_.size() - pos_; }
-
- private:
-  double next_text(const Place& at) {
-    const char* p = bytes_.c_str() + pos_;
-    char* end = nullptr;
-    const double v = std::strtod(p, &end);
-    if (end == p || (*end != '\0' && !std::isspace(static_cast<unsigned char>(*end))))
-      ply_fail("truncated or non-numeric ascii data at " + at.text());
-    pos_ = size_t(end - bytes_.c_str());
-    return v;
-  }
-
-  const std::string& bytes_;
-  size_t pos_;
-  bool binary_;
-};
+[[noreturn]] void ply_fail(const std::string& why) { tear::ply_fail(kPlyContext, why); }
 
 // An integer index or count read from the file: whole and in [0, limit).
-int64_t whole(double v, double limit, const Place& at, const char* what) {
+int64_t whole(double v, double limit, const PlyPlace& at, const char* what) {
   if (!(v >= 0 && v < limit) || v != std::floor(v)) {
     std::ostringstream why;
     why << at.text() << ": " << what << " " << v << ", expected an integer in [0, "
@@ -261,77 +157,20 @@ TriMesh decode_obj(const std::string& text) {
 }
 
 TriMesh decode_mesh_ply(const std::string& bytes) {
-  if (bytes.compare(0, 4, "ply\n") != 0 && bytes.compare(0, 5, "ply\r\n") != 0)
-    ply_fail("does not start with 'ply'");
-  size_t pos = bytes.find('\n') + 1;
-  std::string format;
-  std::vector<Element> elements;
-  bool ended = false;
-  while (!ended && pos < bytes.size()) {
-    size_t eol = bytes.find('\n', pos);
-    if (eol == std::string::npos) eol = bytes.size();
-    std::string line = bytes.substr(pos, eol - pos);
-    pos = eol + 1;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::istringstream ls(line);
-    std::string word;
-    ls >> word;
-    if (word.empty() || word == "comment" || word == "obj_info") continue;
-    if (word == "end_header") {
-      if (eol == bytes.size()) ply_fail("no line break after end_header");
-      ended = true;
-    } else if (word == "format") {
-      if (!format.empty()) ply_fail("two format lines");
-      ls >> format;
-    } else if (word == "element") {
-      Element e;
-      std::string count;
-      ls >> e.name >> count;
-      if (count.empty() || count.size() > 18 ||
-          !std::all_of(count.begin(), count.end(), [](char c) { return c >= '0' && c <= '9'; }))
-        ply_fail("element '" + e.name + "' without a valid count");
-      e.count = size_t(std::strtoull(count.c_str(), nullptr, 10));
-      elements.push_back(e);
-    } else if (word == "property") {
-      if (elements.empty()) ply_fail("property before any element");
-      Property p;
-      std::string type;
-      ls >> type;
-      if (type == "list") {
-        std::string count_type;
-        p.list = true;
-        ls >> count_type >> type;
-        if (!parse_scalar(count_type, &p.count_type, &p.count_size))
-          ply_fail("unknown list count type '" + count_type + "'");
-      }
-      if (!parse_scalar(type, &p.type, &p.size)) ply_fail("unknown property type '" + type + "'");
-      ls >> p.name;
-      if (p.name.empty()) ply_fail("property without a name ('" + line + "')");
-      elements.back().properties.push_back(p);
-    } else {
-      ply_fail("unexpected header line '" + line + "'");
-    }
-  }
-  if (!ended) ply_fail("no end_header line");
-  if (format != "binary_little_endian" && format != "ascii")
-    ply_fail(format.empty()
-                 ? "no format line"
-                 : "unsupported format '" + format + "' (binary_little_endian and ascii are read)");
-  const bool binary = format == "binary_little_endian";
-
+  const PlyHeader h = parse_ply_header(bytes, kPlyContext);
   bool seen_vertex = false, seen_face = false;
-  for (const Element& e : elements) {
+  for (const PlyElement& e : h.elements) {
     if (e.name == "vertex") {
       if (seen_vertex) ply_fail("two vertex elements");
       seen_vertex = true;
       for (const char* axis : {"x", "y", "z"})
         if (std::none_of(e.properties.begin(), e.properties.end(),
-                         [&](const Property& p) { return p.name == axis && !p.list; }))
+                         [&](const PlyProperty& p) { return p.name == axis && !p.list; }))
           ply_fail(std::string("vertex element has no scalar property '") + axis + "'");
     } else if (e.name == "face") {
       if (seen_face) ply_fail("two face elements");
       seen_face = true;
-      if (std::none_of(e.properties.begin(), e.properties.end(), [](const Property& p) {
+      if (std::none_of(e.properties.begin(), e.properties.end(), [](const PlyProperty& p) {
             return p.list && (p.name == "vertex_indices" || p.name == "vertex_index");
           }))
         ply_fail("face element has no list property 'vertex_indices'");
@@ -341,9 +180,9 @@ TriMesh decode_mesh_ply(const std::string& bytes) {
   if (!seen_face) ply_fail("no face element");
 
   TriMesh mesh;
-  PlyBody body(bytes, pos, binary);
+  PlyBody body(bytes, h, kPlyContext);
   std::vector<int32_t> corners;
-  for (const Element& e : elements) {
+  for (const PlyElement& e : h.elements) {
     // Every row takes at least a byte (binary) or two characters (ascii): checked before
     // allocating, so a corrupt count cannot ask for terabytes.
     if (!e.properties.empty() && e.count > body.remaining())
@@ -351,19 +190,19 @@ TriMesh decode_mesh_ply(const std::string& bytes) {
                " rows, found " + std::to_string(body.remaining()) + " bytes of data");
     if (e.name == "vertex") mesh.vertices.resize(e.count);
     if (e.name == "face") mesh.triangles.reserve(e.count);
-    Place at;
+    PlyPlace at;
     at.element = &e;
     for (size_t row = 0; row < e.count; ++row) {
       at.row = row;
-      for (const Property& p : e.properties) {
+      for (const PlyProperty& p : e.properties) {
         at.property = &p;
         if (!p.list) {
-          const double v = body.next(p.type, p.size, at);
+          const double v = body.next(p.type, at);
           if (e.name == "vertex" && p.name.size() == 1 && p.name[0] >= 'x' && p.name[0] <= 'z')
             mesh.vertices[row][p.name[0] - 'x'] = float(v);
           continue;
         }
-        const int64_t n = whole(body.next(p.count_type, p.count_size, at), 1e9, at, "list count");
+        const int64_t n = whole(body.next(p.count_type, at), 1e9, at, "list count");
         const bool indices =
             e.name == "face" && (p.name == "vertex_indices" || p.name == "vertex_index");
         if (indices) {
@@ -372,7 +211,7 @@ TriMesh decode_mesh_ply(const std::string& bytes) {
           corners.clear();
         }
         for (int64_t k = 0; k < n; ++k) {
-          const double v = body.next(p.type, p.size, at);
+          const double v = body.next(p.type, at);
           if (indices)
             corners.push_back(int32_t(whole(v, double(mesh.vertices.size()), at, "vertex index")));
         }

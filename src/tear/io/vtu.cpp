@@ -10,32 +10,14 @@
 #include <stdexcept>
 
 #include "tear/io/atomic_file.h"
+#include "tear/io/endian.h"
 #include "tear/io/frames.h"
+#include "tear/io/numbers.h"
 #include "tear/io/point_groups.h"
 
 namespace tear {
 
 namespace {
-
-constexpr bool kHostLittleEndian = __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__;
-
-template <class T>
-void append_le(std::string* out, T value) {
-  char b[sizeof(T)];
-  std::memcpy(b, &value, sizeof(T));
-  if constexpr (!kHostLittleEndian) std::reverse(b, b + sizeof(T));
-  out->append(b, sizeof(T));
-}
-
-template <class T>
-double load_le(const char* p) {
-  char b[sizeof(T)];
-  std::memcpy(b, p, sizeof(T));
-  if constexpr (!kHostLittleEndian) std::reverse(b, b + sizeof(T));
-  T value;
-  std::memcpy(&value, b, sizeof(T));
-  return double(value);
-}
 
 [[noreturn]] void fail(const std::string& why) { throw std::runtime_error("bad VTU: " + why); }
 
@@ -97,43 +79,23 @@ std::string base64_decode(const char* p, const char* end, const std::string& arr
 
 // --- VTK value types
 
-enum class Vt { I8, U8, I16, U16, I32, U32, I64, U64, F32, F64 };
-
 struct VtkType {
   const char* name;
-  Vt vt;
-  size_t size;
-  ColumnType column;  // the table type that holds every value exactly (as decode_ply chooses)
+  NumberType number;
 };
 
 const VtkType kTypes[] = {
-    {"Int8", Vt::I8, 1, ColumnType::Int32},       {"UInt8", Vt::U8, 1, ColumnType::UInt8},
-    {"Int16", Vt::I16, 2, ColumnType::Int32},     {"UInt16", Vt::U16, 2, ColumnType::Int32},
-    {"Int32", Vt::I32, 4, ColumnType::Int32},     {"UInt32", Vt::U32, 4, ColumnType::Float64},
-    {"Int64", Vt::I64, 8, ColumnType::Float64},   {"UInt64", Vt::U64, 8, ColumnType::Float64},
-    {"Float32", Vt::F32, 4, ColumnType::Float32}, {"Float64", Vt::F64, 8, ColumnType::Float64},
+    {"Int8", NumberType::Int8},       {"UInt8", NumberType::UInt8},
+    {"Int16", NumberType::Int16},     {"UInt16", NumberType::UInt16},
+    {"Int32", NumberType::Int32},     {"UInt32", NumberType::UInt32},
+    {"Int64", NumberType::Int64},     {"UInt64", NumberType::UInt64},
+    {"Float32", NumberType::Float32}, {"Float64", NumberType::Float64},
 };
 
 const VtkType* find_type(const std::string& name) {
   for (const VtkType& t : kTypes)
     if (name == t.name) return &t;
   return nullptr;
-}
-
-double load_value(Vt vt, const char* p) {
-  switch (vt) {
-    case Vt::I8: return load_le<int8_t>(p);
-    case Vt::U8: return load_le<uint8_t>(p);
-    case Vt::I16: return load_le<int16_t>(p);
-    case Vt::U16: return load_le<uint16_t>(p);
-    case Vt::I32: return load_le<int32_t>(p);
-    case Vt::U32: return load_le<uint32_t>(p);
-    case Vt::I64: return load_le<int64_t>(p);
-    case Vt::U64: return load_le<uint64_t>(p);
-    case Vt::F32: return load_le<float>(p);
-    case Vt::F64: return load_le<double>(p);
-  }
-  return 0;
 }
 
 // The shortest decimal text that reads back as `v`.
@@ -251,12 +213,11 @@ bool next_tag(const std::string& s, size_t pos, Tag* tag) {
   }
 }
 
-// A non-negative decimal count.
-size_t parse_count(const std::string& text, const std::string& what) {
-  if (text.empty() || text.size() > 18 ||
-      !std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; }))
-    fail(what + " \"" + text + "\" is not a count");
-  return size_t(std::strtoull(text.c_str(), nullptr, 10));
+// A count attribute's value; `what` names it in the error.
+size_t count_attribute(const std::string& text, const std::string& what) {
+  size_t n = 0;
+  if (!parse_count(text, &n)) fail(what + " \"" + text + "\" is not a count");
+  return n;
 }
 
 struct DataArray {
@@ -288,17 +249,18 @@ std::vector<double> read_values(const DataArray& a, const std::string& format, s
     fail("array '" + a.name + "' has format \"" + format + "\" (binary and ascii are read)");
   const std::string bytes = base64_decode(p, end, a.name);
   if (bytes.size() < header_size) fail("array '" + a.name + "': truncated header");
-  const uint64_t count = header_size == 8 ? uint64_t(load_le<uint64_t>(bytes.data()))
-                                          : uint64_t(load_le<uint32_t>(bytes.data()));
+  const uint64_t count =
+      header_size == 8 ? load_le<uint64_t>(bytes.data()) : load_le<uint32_t>(bytes.data());
   if (count > bytes.size() - header_size)
     fail("array '" + a.name + "': truncated (its header says " + std::to_string(count) +
          " bytes, it has " + std::to_string(bytes.size() - header_size) + ")");
-  if (count % a.type->size != 0)
+  const size_t size = number_size(a.type->number);
+  if (count % size != 0)
     fail("array '" + a.name + "': " + std::to_string(count) + " bytes is not a whole number of " +
          a.type->name + " values");
-  v.resize(count / a.type->size);
+  v.resize(count / size);
   const char* q = bytes.data() + header_size;
-  for (size_t i = 0; i < v.size(); ++i, q += a.type->size) v[i] = load_value(a.type->vt, q);
+  for (size_t i = 0; i < v.size(); ++i, q += size) v[i] = load_le_number(a.type->number, q);
   return v;
 }
 
@@ -418,7 +380,7 @@ PointTable decode_vtu(const std::string& bytes) {
       if (++pieces > 1) fail("more than one Piece (not read)");
       const std::string* np = tag.attr("NumberOfPoints");
       if (!np) fail("Piece without NumberOfPoints");
-      points = parse_count(*np, "NumberOfPoints");
+      points = count_attribute(*np, "NumberOfPoints");
     } else if (tag.name == "AppendedData") {
       fail("appended data (not read; save with inline binary or ascii data)");
     } else if (tag.name == "DataArray") {
@@ -432,7 +394,7 @@ PointTable decode_vtu(const std::string& bytes) {
       a.type = find_type(*type);
       if (!a.type) fail("array '" + a.name + "' has unknown type \"" + *type + "\"");
       if (const std::string* c = tag.attr("NumberOfComponents"))
-        a.components = parse_count(*c, "NumberOfComponents of '" + a.name + "'");
+        a.components = count_attribute(*c, "NumberOfComponents of '" + a.name + "'");
       if (a.components == 0) fail("array '" + a.name + "' has 0 components");
       if (tag.attr("offset")) fail("array '" + a.name + "' refers to appended data (not read)");
       const std::string* format = tag.attr("format");
@@ -466,7 +428,7 @@ PointTable decode_vtu(const std::string& bytes) {
       if (t.has(cols[k])) fail("array '" + a.name + "' gives a second column '" + cols[k] + "'");
       std::vector<double> c(points);
       for (size_t i = 0; i < points; ++i) c[i] = a.values[i * a.components + k];
-      t.add(cols[k], a.type->column, std::move(c));
+      t.add(cols[k], exact_column_type(a.type->number), std::move(c));
     }
   };
   const auto p = std::find_if(arrays.begin(), arrays.end(),

@@ -1,0 +1,89 @@
+// io/: the numbers the point and mesh readers meet in files: the binary value types of PLY and
+// VTU (each format names them its own way), read as double, and decimal counts in headers.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <string>
+
+#include "tear/io/endian.h"
+#include "tear/io/point_table.h"
+
+namespace tear {
+
+enum class NumberType {
+  Int8,
+  UInt8,
+  Int16,
+  UInt16,
+  Int32,
+  UInt32,
+  Int64,
+  UInt64,
+  Float32,
+  Float64
+};
+
+inline size_t number_size(NumberType t) {
+  switch (t) {
+    case NumberType::Int8:
+    case NumberType::UInt8: return 1;
+    case NumberType::Int16:
+    case NumberType::UInt16: return 2;
+    case NumberType::Int32:
+    case NumberType::UInt32:
+    case NumberType::Float32: return 4;
+    case NumberType::Int64:
+    case NumberType::UInt64:
+    case NumberType::Float64: return 8;
+  }
+  return 0;
+}
+
+// The little-endian value of type `t` at `p`.
+inline double load_le_number(NumberType t, const char* p) {
+  switch (t) {
+    case NumberType::Int8: return load_le<int8_t>(p);
+    case NumberType::UInt8: return load_le<uint8_t>(p);
+    case NumberType::Int16: return load_le<int16_t>(p);
+    case NumberType::UInt16: return load_le<uint16_t>(p);
+    case NumberType::Int32: return load_le<int32_t>(p);
+    case NumberType::UInt32: return load_le<uint32_t>(p);
+    case NumberType::Int64: return double(load_le<int64_t>(p));
+    case NumberType::UInt64: return double(load_le<uint64_t>(p));
+    case NumberType::Float32: return load_le<float>(p);
+    case NumberType::Float64: return load_le<double>(p);
+  }
+  return 0;
+}
+
+// The table column type that holds every value of `t` exactly: the signed 8/16-bit types and
+// uint16 do not fit uchar, so they become int32; uint32 (beyond 2^31) and the 64-bit integers
+// become double.
+inline ColumnType exact_column_type(NumberType t) {
+  switch (t) {
+    case NumberType::UInt8: return ColumnType::UInt8;
+    case NumberType::Int8:
+    case NumberType::Int16:
+    case NumberType::UInt16:
+    case NumberType::Int32: return ColumnType::Int32;
+    case NumberType::Float32: return ColumnType::Float32;
+    case NumberType::UInt32:
+    case NumberType::Int64:
+    case NumberType::UInt64:
+    case NumberType::Float64: return ColumnType::Float64;
+  }
+  return ColumnType::Float64;
+}
+
+// A non-negative decimal count: all digits, no sign, at most 18 of them (so no overflow).
+inline bool parse_count(const std::string& text, size_t* n) {
+  if (text.empty() || text.size() > 18) return false;
+  for (char c : text)
+    if (c < '0' || c > '9') return false;
+  *n = size_t(std::strtoull(text.c_str(), nullptr, 10));
+  return true;
+}
+
+}  // namespace tear
