@@ -196,7 +196,8 @@ TEST_F(Cli, UsageErrorsExitTwo) {
 
 TEST_F(Cli, InfoAndQuickBench) {
   EXPECT_EQ(tear("info"), 0) << err_;
-  for (const char* k : {"precision", "asserts", "compiler", "eigen", "onetbb", "threads"})
+  for (const char* k : {"precision", "asserts", "compiler", "eigen", "onetbb", "threads", "embree",
+                        "libpng", "openvdb", "ffmpeg"})
     EXPECT_NE(out_.find(k), std::string::npos) << k;
   // stdout is exactly one JSON object; notes go to stderr.
   ASSERT_EQ(tear("bench --quick --threads-list 1,2"), 0) << err_;

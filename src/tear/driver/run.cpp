@@ -7,6 +7,9 @@
 #include "tear/io/frames.h"
 #include "tear/io/vtu.h"
 #include "tear/mpm/simulation.h"
+#include "tear/render/render.h"
+#include "tear/render/video.h"
+#include "tear/surface/mesher.h"
 #include "tear/scene/scene.h"
 
 #include <Eigen/Core>
@@ -341,6 +344,11 @@ void print_info(std::ostream& out) {
       << EIGEN_MINOR_VERSION << "\n";
   out << "onetbb      " << TBB_VERSION_MAJOR << "." << TBB_VERSION_MINOR << "\n";
   out << "threads     " << tbb::info::default_concurrency() << " available\n";
+  out << "embree      " << embree_version() << "\n";
+  out << "libpng      " << libpng_version() << "\n";
+  out << "openvdb     " << openvdb_version() << "\n";
+  const std::string ffmpeg = ffmpeg_path();
+  out << "ffmpeg      " << (ffmpeg.empty() ? "not found on PATH (no preview.mp4)" : ffmpeg) << "\n";
 }
 
 }  // namespace tear

@@ -106,4 +106,6 @@ Image decode_png(const std::string& bytes) {
   return std::move(result->image);
 }
 
+const char* libpng_version() { return PNG_LIBPNG_VER_STRING; }
+
 }  // namespace tear

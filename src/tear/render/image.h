@@ -26,4 +26,7 @@ std::string encode_png(const Image& image);
 // with libpng's reason on malformed input.
 Image decode_png(const std::string& bytes);
 
+// The libpng version this build was compiled against (`tear info`).
+const char* libpng_version();
+
 }  // namespace tear

@@ -84,6 +84,9 @@ class Renderer {
   std::unique_ptr<Device> device_;
 };
 
+// The Embree version this build was compiled against (`tear info`).
+const char* embree_version();
+
 // Whether this build has the surface mesher that RenderSettings::surface needs.
 bool surface_rendering_available();
 

@@ -158,6 +158,8 @@ struct Renderer::Device {
   }
 };
 
+const char* embree_version() { return RTC_VERSION_STRING; }
+
 bool surface_rendering_available() {
 #ifdef TEAR_RENDER_SURFACE
   return true;

@@ -187,4 +187,6 @@ TriMesh mesh_particles(const PointTable& frame, const MeshOptions& o) {
   return mesh;
 }
 
+const char* openvdb_version() { return OPENVDB_LIBRARY_VERSION_STRING; }
+
 }  // namespace tear

@@ -31,6 +31,9 @@ TriMesh mesh_particles(const PointTable& frame, const MeshOptions& options);
 // Throws std::invalid_argument naming the option when mesh_particles would reject `options`.
 void check_mesh_options(const MeshOptions& options);
 
+// The OpenVDB version this build was compiled against (`tear info`).
+const char* openvdb_version();
+
 // Median distance from a point to its nearest neighbour (coincident points left out): the
 // particle spacing of a frame. 0 when there are fewer than two distinct finite points.
 double estimate_spacing(const PointTable& frame);
