@@ -148,8 +148,8 @@ int main(int argc, char** argv) {
   mesh_cmd->add_option("dir", mesh.dir, "Output folder of tear run")->required();
   mesh_cmd->add_option("--frames", mesh.frames, "Frames to mesh: A:B, A:, :B or A (default: all)");
   mesh_cmd->add_option("--spacing", mesh.spacing,
-                       "Particle spacing (default: median nearest-neighbour distance in the "
-                       "first frame)")
+                       "Particle spacing (default: dx / ppc^(1/dim) from DIR/scene.json, else "
+                       "the median nearest-neighbour distance in the first frame)")
       ->check(CLI::PositiveNumber);
   mesh_cmd->add_option("--radius", mesh.radius,
                        "Sphere radius per particle, in spacings (default 1)")
