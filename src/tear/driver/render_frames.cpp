@@ -98,8 +98,6 @@ RenderSettings settings_of(const RenderSpec& spec, const RenderOverrides& o) {
     throw std::runtime_error("--camera-up: must be non-zero");
   if (st.camera_position && st.camera_target && *st.camera_position == *st.camera_target)
     throw std::runtime_error("--camera-position equals the camera target");
-  if (st.surface && !surface_rendering_available())
-    throw std::runtime_error("--surface: this build of tear has no surface mesher");
   return st;
 }
 

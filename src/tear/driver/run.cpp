@@ -38,16 +38,18 @@ using Clock = std::chrono::steady_clock;
 namespace {
 
 // The frame in every format the scene asks for; with vtu, DIR/frames.pvd lists it at its time
-// (recorded in `vtu_times`, the times of the frames written before).
-void write_frame(const std::string& dir, int frame, const Simulation& sim,
-                 const std::vector<std::string>& formats, std::map<int, double>* vtu_times) {
-  const PointTable table = sim.frame_table();
+// (recorded in `vtu_times`, the times of the frames written before). Returns the frame's table
+// (for --render).
+PointTable write_frame(const std::string& dir, int frame, const Simulation& sim,
+                       const std::vector<std::string>& formats, std::map<int, double>* vtu_times) {
+  PointTable table = sim.frame_table();
   for (const std::string& f : formats)
     write_file_atomic(frame_path(dir, frame, f), encode_points(table, f));
   if (std::find(formats.begin(), formats.end(), "vtu") != formats.end()) {
     (*vtu_times)[frame] = sim.time();
     write_frames_pvd(dir, *vtu_times);
   }
+  return table;
 }
 
 // For choosing sigma_c: the uniaxial stretch (other directions held) at which a particle of
@@ -214,10 +216,10 @@ int run_scene(const RunOptions& o) {
       fs::remove(dir / "frames.pvd");
       make_directories((dir / "frames").string());
       write_file_atomic((dir / "scene.json").string(), scene.resolved.dump(2) + "\n");
-      write_frame(o.out_dir, 0, *sim, scene.formats, &vtu_times);
+      const PointTable first = write_frame(o.out_dir, 0, *sim, scene.formats, &vtu_times);
       if (renderer) {
         renderer->clear();
-        renderer->render(0, sim->frame_table());
+        renderer->render(0, first);
       }
       FrameStats s = sim->collect_stats();
       stats.push_back(s.to_json().dump());
@@ -246,8 +248,8 @@ int run_scene(const RunOptions& o) {
         warned_cg = true;
       }
       if (frame % scene.output_every == 0 || frame == scene.frames) {
-        write_frame(o.out_dir, frame, *sim, scene.formats, &vtu_times);
-        if (renderer) renderer->render(frame, sim->frame_table());
+        const PointTable table = write_frame(o.out_dir, frame, *sim, scene.formats, &vtu_times);
+        if (renderer) renderer->render(frame, table);
       }
       stats.push_back(s.to_json().dump());
       write_lines_atomic(stats_path, stats);

@@ -87,9 +87,6 @@ class Renderer {
 // The Embree version this build was compiled against (`tear info`).
 const char* embree_version();
 
-// Whether this build has the surface mesher that RenderSettings::surface needs.
-bool surface_rendering_available();
-
 // Largest speed |(vx, vy, vz)| in a frame (0 without velocity columns).
 double max_speed(const PointTable& frame);
 

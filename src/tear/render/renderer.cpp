@@ -6,9 +6,7 @@
 #include "tear/render/legend.h"
 #include "tear/render/render.h"
 
-#ifdef TEAR_RENDER_SURFACE
 #include "tear/surface/mesher.h"
-#endif
 
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range2d.h>
@@ -160,14 +158,6 @@ struct Renderer::Device {
 
 const char* embree_version() { return RTC_VERSION_STRING; }
 
-bool surface_rendering_available() {
-#ifdef TEAR_RENDER_SURFACE
-  return true;
-#else
-  return false;
-#endif
-}
-
 Renderer::Renderer() : device_(std::make_unique<Device>()) {}
 Renderer::~Renderer() = default;
 
@@ -314,7 +304,6 @@ class Geometry {
   std::vector<std::array<int32_t, 3>> triangles_;
 };
 
-#ifdef TEAR_RENDER_SURFACE
 // Colour of each mesh vertex: that of the nearest point, found in a hash grid of cells twice
 // the particle spacing (searching outwards ring by ring).
 std::vector<Vector3f> vertex_albedo(const std::vector<Vector3f>& vertices,
@@ -356,13 +345,11 @@ std::vector<Vector3f> vertex_albedo(const std::vector<Vector3f>& vertices,
   });
   return out;
 }
-#endif
 
 void Geometry::build_mesh(RTCDevice device, const PointTable& frame, const RenderLook& look,
                           const std::vector<Vector3f>& centre,
                           const std::vector<Vector3f>& albedo) {
   spheres_ = false;
-#ifdef TEAR_RENDER_SURFACE
   MeshOptions options;
   options.spacing = look.spacing;
   const TriMesh mesh = mesh_particles(frame, options);
@@ -390,10 +377,6 @@ void Geometry::build_mesh(RTCDevice device, const PointTable& frame, const Rende
   rtcCommitGeometry(g);
   rtcAttachGeometry(scene_, g);
   rtcReleaseGeometry(g);
-#else
-  (void)device, (void)frame, (void)look, (void)centre, (void)albedo;
-  throw std::runtime_error("--surface: this build of tear has no surface mesher");
-#endif
 }
 
 // Everything fixed while the pixels of one picture are traced.
