@@ -31,16 +31,6 @@ std::string mesh_path(const std::string& dir, int frame, const std::string& form
   return (fs::path(dir) / "meshes" / name).string();
 }
 
-// The sampling spacing dx / ppc^(1/dim) of the scene's densest object, as the renderer takes it
-// (driver/render_frames.cpp). Exact for every sampling; the nearest-neighbour estimate is too
-// small for stratified-random samples (about 0.65 of it).
-double scene_spacing(const Scene& s) {
-  int densest = 0;
-  for (const ObjectSpec& o : s.objects) densest = std::max(densest, o.ppc);
-  if (densest <= 0) densest = s.dim == 2 ? 4 : 8;
-  return s.dx / std::pow(double(densest), 1.0 / s.dim);
-}
-
 double seconds_since(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
@@ -73,12 +63,14 @@ int mesh_frames(const MeshFramesOptions& o) {
     const Clock::time_point start = Clock::now();
     const std::vector<FrameFile> files = frames_in_range(o.dir, range);
     // One spacing for every frame, that of the particles as sampled, so that stretching does
-    // not make later surfaces fatter: from the run's scene, else from its first frame.
+    // not make later surfaces fatter: from the run's scene (exact for every sampling), else
+    // from its first frame (the nearest-neighbour estimate is about 0.65 of the spacing for
+    // stratified-random samples).
     if (mesh_options.spacing == 0) {
       const std::string scene_path = (fs::path(o.dir) / "scene.json").string();
       std::string source;
       if (fs::exists(scene_path)) {
-        mesh_options.spacing = scene_spacing(load_scene(scene_path));
+        mesh_options.spacing = particle_spacing(load_scene(scene_path));
         source = "dx / ppc^(1/dim) in " + scene_path;
       } else {
         mesh_options.spacing = estimate_spacing(read_frame(files.front().path));

@@ -46,24 +46,18 @@ RenderLook look_of(const Scene& s) {
       if (look.up[a] > 0.999) look.floors.push_back(s.domain_min[a]);
       if (look.up[a] < -0.999) look.floors.push_back(-s.domain_max[a]);
     }
-  // Spheres just touching on the sampling lattice: radius half the spacing dx / ppc^(1/dim).
-  const int default_ppc = s.dim == 2 ? 4 : 8;
+  // Spheres just touching on the sampling lattice: radius half the particle spacing.
   std::vector<int> ppc(s.materials.size(), 0);
-  int densest = 0;
-  for (const ObjectSpec& o : s.objects) {
+  for (const ObjectSpec& o : s.objects)
     if (o.material >= 0 && size_t(o.material) < ppc.size())
       ppc[size_t(o.material)] = std::max(ppc[size_t(o.material)], o.ppc);
-    densest = std::max(densest, o.ppc);
-  }
-  auto spacing = [&](int n) {
-    return s.dx / std::pow(double(n > 0 ? n : default_ppc), 1.0 / s.dim);
-  };
   for (size_t m = 0; m < s.materials.size(); ++m) {
-    look.material_radius.push_back(0.5 * spacing(ppc[m]));
+    const int n = ppc[m] > 0 ? ppc[m] : default_ppc(s.dim);  // a material no object uses
+    look.material_radius.push_back(0.5 * particle_spacing(s, n));
     look.material_names.push_back(s.materials[m].name);
   }
-  look.radius = 0.5 * spacing(default_ppc);
-  look.spacing = spacing(densest);
+  look.radius = 0.5 * particle_spacing(s, default_ppc(s.dim));
+  look.spacing = particle_spacing(s);
   return look;
 }
 

@@ -310,4 +310,12 @@ Scene parse_scene(const json& doc, const std::string& file) {
   return s;
 }
 
+int default_ppc(int dim) { return dim == 2 ? 4 : 8; }
+
+double particle_spacing(const Scene& s, int ppc) {
+  if (ppc <= 0)
+    for (const ObjectSpec& o : s.objects) ppc = std::max(ppc, o.ppc);
+  return s.dx / std::pow(double(ppc > 0 ? ppc : default_ppc(s.dim)), 1.0 / s.dim);
+}
+
 }  // namespace tear

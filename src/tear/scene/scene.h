@@ -134,4 +134,10 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
 // Same, from an in-memory JSON document (`file` is used in error messages and to resolve paths).
 Scene parse_scene(const nlohmann::json& doc, const std::string& file);
 
+// An object's particles per cell when its "ppc" is omitted: 4 in 2D, 8 in 3D.
+int default_ppc(int dim);
+// The spacing of particles sampled `ppc` per cell, dx / ppc^(1/dim); with no `ppc` (0), that of
+// the scene's densest object, the finest spacing a run starts with.
+double particle_spacing(const Scene& s, int ppc = 0);
+
 }  // namespace tear

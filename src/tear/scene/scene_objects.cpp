@@ -101,7 +101,7 @@ json parse_object(const Reader& r, const json& o, const std::string& path, const
   }
   out["material"] = mat;
 
-  long long ppc = r.integer(o, path, "ppc", r.dim == 2 ? 4 : 8);
+  long long ppc = r.integer(o, path, "ppc", default_ppc(r.dim));
   r.check(ppc >= 1 && ppc <= 4096, key_path(path, "ppc"),
           "must be in [1, 4096], got " + std::to_string(ppc));
   spec->ppc = int(ppc);
