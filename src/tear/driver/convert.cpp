@@ -19,11 +19,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool known_format(const std::string& format) {
-  const std::vector<std::string>& known = point_formats();
-  return std::find(known.begin(), known.end(), format) != known.end();
-}
-
 std::string unknown_format(const std::string& dir, const std::string& format) {
   return dir + ": unknown format \"" + format + "\" for --to (known: " + point_format_list() + ")";
 }
@@ -43,7 +38,7 @@ std::map<int, double> frame_times(const std::vector<std::string>& stats_lines) {
 
 ConvertCounts convert_frames(const std::string& dir, const std::string& format,
                              const FrameRange& range) {
-  if (!known_format(format)) throw std::runtime_error(unknown_format(dir, format));
+  if (!is_point_format(format)) throw std::runtime_error(unknown_format(dir, format));
   ConvertCounts counts;
   std::error_code ec;
   for (const FrameFile& f : frames_in_range(dir, range)) {
@@ -75,7 +70,7 @@ int convert_run(const ConvertOptions& o) {
   } catch (const std::exception& e) {
     return fail(e.what(), 2);
   }
-  if (!known_format(o.format)) return fail(unknown_format(o.dir, o.format), 2);
+  if (!is_point_format(o.format)) return fail(unknown_format(o.dir, o.format), 2);
   try {
     const auto start = std::chrono::steady_clock::now();
     const ConvertCounts c = convert_frames(o.dir, o.format, range);

@@ -26,6 +26,11 @@ std::string point_format_list(const std::string &separator) {
   return out;
 }
 
+bool is_point_format(const std::string &format) {
+  const std::vector<std::string> &formats = point_formats();
+  return std::find(formats.begin(), formats.end(), format) != formats.end();
+}
+
 std::string frame_path(const std::string &dir, int frame, const std::string &format) {
   char name[32];
   std::snprintf(name, sizeof(name), "%05d.", frame);
@@ -99,8 +104,7 @@ FrameRange parse_frame_range(const std::string &text) {
 PointTable read_frame(const std::string &path) {
   const std::string ext = fs::path(path).extension().string();
   const std::string format = ext.empty() ? "" : ext.substr(1);
-  const std::vector<std::string> &formats = point_formats();
-  if (std::find(formats.begin(), formats.end(), format) == formats.end())
+  if (!is_point_format(format))
     throw std::runtime_error(path + ": unknown point format \"" + ext + "\" (expected ." +
                              point_format_list(", .") + ")");
   const std::string bytes = read_file(path);  // its errors name the path

@@ -16,6 +16,8 @@ namespace tear {
 const std::vector<std::string> &point_formats();
 // point_formats() joined by `separator`, for messages: "ply, bgeo, vtu".
 std::string point_format_list(const std::string &separator = ", ");
+// Whether `format` is one of point_formats().
+bool is_point_format(const std::string &format);
 
 // DIR/frames/NNNNN.EXT (five digits at least, as the run writes them).
 std::string frame_path(const std::string &dir, int frame, const std::string &format);

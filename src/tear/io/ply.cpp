@@ -32,19 +32,12 @@ TypeInfo info(ColumnType t) {
 }  // namespace
 
 std::string encode_ply(const PointTable& t) {
-  if (t.types.size() != t.names.size() || t.columns.size() != t.names.size())
-    throw std::runtime_error("PLY table has " + std::to_string(t.names.size()) + " names, " +
-                             std::to_string(t.types.size()) + " types and " +
-                             std::to_string(t.columns.size()) + " columns");
+  t.check_shape();
   std::string out =
       "ply\nformat binary_little_endian 1.0\ncomment written by tear\nelement vertex " +
       std::to_string(t.count) + "\n";
   size_t row = 0;
   for (size_t c = 0; c < t.names.size(); ++c) {
-    if (t.columns[c].size() != t.count)
-      throw std::runtime_error("PLY column '" + t.names[c] + "' has " +
-                               std::to_string(t.columns[c].size()) + " values, the table " +
-                               std::to_string(t.count));
     out += "property " + std::string(info(t.types[c]).name) + " " + t.names[c] + "\n";
     row += info(t.types[c]).size;
   }

@@ -28,16 +28,8 @@ const std::vector<VectorGroup>& vector_groups() {
 }
 
 std::vector<PointAttribute> group_columns(const PointTable& t, AttributeFormat format) {
+  t.check_shape();
   const size_t n = t.names.size();
-  if (t.types.size() != n || t.columns.size() != n)
-    throw std::runtime_error("table has " + std::to_string(n) + " names, " +
-                             std::to_string(t.types.size()) + " types and " +
-                             std::to_string(t.columns.size()) + " columns");
-  for (size_t c = 0; c < n; ++c)
-    if (t.columns[c].size() != t.count)
-      throw std::runtime_error("column '" + t.names[c] + "' has " +
-                               std::to_string(t.columns[c].size()) + " values, the table " +
-                               std::to_string(t.count));
 
   // For each column, the attribute it starts (its own, or its vector group's), or -1 when it
   // is a later component of a group.

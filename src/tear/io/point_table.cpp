@@ -5,10 +5,17 @@
 
 namespace tear {
 
+namespace {
+
+std::runtime_error wrong_length(const std::string &name, size_t values, size_t count) {
+  return std::runtime_error("column '" + name + "' has " + std::to_string(values) +
+                            " values, the table " + std::to_string(count));
+}
+
+}  // namespace
+
 void PointTable::add(const std::string &name, ColumnType type, std::vector<double> values) {
-  if (values.size() != count)
-    throw std::runtime_error("column '" + name + "' has " + std::to_string(values.size()) +
-                             " values, the table " + std::to_string(count));
+  if (values.size() != count) throw wrong_length(name, values.size(), count);
   if (has(name)) throw std::runtime_error("column '" + name + "' added twice");
   names.push_back(name);
   types.push_back(type);
@@ -23,6 +30,15 @@ const std::vector<double> &PointTable::column(const std::string &name) const {
   for (size_t i = 0; i < names.size(); ++i)
     if (names[i] == name) return columns[i];
   throw std::runtime_error("no column '" + name + "'");
+}
+
+void PointTable::check_shape() const {
+  if (types.size() != names.size() || columns.size() != names.size())
+    throw std::runtime_error("table has " + std::to_string(names.size()) + " names, " +
+                             std::to_string(types.size()) + " types and " +
+                             std::to_string(columns.size()) + " columns");
+  for (size_t c = 0; c < names.size(); ++c)
+    if (columns[c].size() != count) throw wrong_length(names[c], columns[c].size(), count);
 }
 
 }  // namespace tear

@@ -23,6 +23,9 @@ struct PointTable {
   bool has(const std::string &name) const;
   // Throws std::runtime_error if absent.
   const std::vector<double> &column(const std::string &name) const;
+  // Throws std::runtime_error unless names, types and columns agree in number and every column
+  // holds `count` values (what the encoders rely on).
+  void check_shape() const;
 };
 
 }  // namespace tear

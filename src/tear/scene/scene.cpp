@@ -134,8 +134,7 @@ json parse_output(const Reader& r, const json& doc, Scene* s) {
       const json& v = (*f)[i];
       if (!v.is_string()) r.fail(p, "must be a string, got " + type_desc(v));
       std::string name = v.get<std::string>();
-      const std::vector<std::string>& known = point_formats();
-      if (std::find(known.begin(), known.end(), name) == known.end())
+      if (!is_point_format(name))
         r.fail(p, "unknown format \"" + name + "\" (expected one of: " + point_format_list() +
                       ")");
       for (const std::string& seen : s->formats)
