@@ -8,18 +8,12 @@
 #include <stdexcept>
 
 #include "tear/io/endian.h"
+#include "tear/io/numbers.h"
 #include "tear/io/ply_header.h"
 
 namespace tear {
 
 namespace {
-
-// Shortest text that reads back as the same float.
-void append_float(std::string* out, float value) {
-  char buf[32];
-  const std::to_chars_result r = std::to_chars(buf, buf + sizeof(buf), value);
-  out->append(buf, r.ptr);
-}
 
 void check_indices(const TriMesh& mesh, const char* format) {
   const int64_t n = int64_t(mesh.vertices.size());
@@ -82,7 +76,7 @@ std::string encode_obj(const TriMesh& mesh) {
     out += 'v';
     for (int a = 0; a < 3; ++a) {
       out += ' ';
-      append_float(&out, v[a]);
+      out += shortest_text(v[a]);
     }
     out += '\n';
   }

@@ -2,6 +2,7 @@
 // VTU (each format names them its own way), read as double, and decimal counts in headers.
 #pragma once
 
+#include <charconv>
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -75,6 +76,13 @@ inline ColumnType exact_column_type(NumberType t) {
     case NumberType::Float64: return ColumnType::Float64;
   }
   return ColumnType::Float64;
+}
+
+// The shortest decimal text that reads back as exactly `v` (a float or a double).
+template <class T>
+std::string shortest_text(T v) {
+  char buf[32];
+  return std::string(buf, std::to_chars(buf, buf + sizeof(buf), v).ptr);
 }
 
 // A non-negative decimal count: all digits, no sign, at most 18 of them (so no overflow).

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdint>
-#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -96,16 +95,6 @@ const VtkType* find_type(const std::string& name) {
   for (const VtkType& t : kTypes)
     if (name == t.name) return &t;
   return nullptr;
-}
-
-// The shortest decimal text that reads back as `v`.
-std::string shortest(double v) {
-  char buf[32];
-  for (int precision = 6; precision <= 17; ++precision) {
-    std::snprintf(buf, sizeof(buf), "%.*g", precision, v);
-    if (std::strtod(buf, nullptr) == v) break;
-  }
-  return buf;
 }
 
 // --- XML: just enough for the files encode_vtu and encode_pvd write
@@ -453,7 +442,7 @@ std::string encode_pvd(const std::vector<PvdEntry>& entries) {
       "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
       "  <Collection>\n";
   for (const PvdEntry& e : entries) {
-    out += "    <DataSet timestep=\"" + shortest(e.time) + "\" group=\"\" part=\"0\" file=\"" +
+    out += "    <DataSet timestep=\"" + shortest_text(e.time) + "\" group=\"\" part=\"0\" file=\"" +
            xml_escape(e.file) + "\"/>\n";
   }
   out +=
