@@ -41,4 +41,14 @@ void PointTable::check_shape() const {
     if (columns[c].size() != count) throw wrong_length(names[c], columns[c].size(), count);
 }
 
+std::vector<Eigen::Vector3d> positions(const PointTable &t) {
+  std::vector<Eigen::Vector3d> out;
+  if (t.count == 0) return out;
+  const std::vector<double> &x = t.column("x"), &y = t.column("y");
+  const std::vector<double> *z = t.has("z") ? &t.column("z") : nullptr;
+  out.reserve(t.count);
+  for (size_t i = 0; i < t.count; ++i) out.emplace_back(x[i], y[i], z ? (*z)[i] : 0.0);
+  return out;
+}
+
 }  // namespace tear

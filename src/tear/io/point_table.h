@@ -3,6 +3,7 @@
 // into.
 #pragma once
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
 
@@ -27,5 +28,9 @@ struct PointTable {
   // holds `count` values (what the encoders rely on).
   void check_shape() const;
 };
+
+// Columns x, y and z (0 where the table has no z) as points; none for an empty table. Throws
+// std::runtime_error when a non-empty table has no x or y.
+std::vector<Eigen::Vector3d> positions(const PointTable &t);
 
 }  // namespace tear

@@ -171,13 +171,9 @@ class Geometry {
       : scene_(rtcNewScene(device)) {
     rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_MEDIUM);
     const std::vector<Vector3f> albedo = point_albedo(frame, settings);
-    std::vector<Vector3f> centre(frame.count);
-    if (frame.count > 0) {
-      const std::vector<double>&x = frame.column("x"), &y = frame.column("y");
-      const std::vector<double>* z = frame.has("z") ? &frame.column("z") : nullptr;
-      for (size_t i = 0; i < frame.count; ++i)
-        centre[i] = Vector3f(float(x[i]), float(y[i]), z ? float((*z)[i]) : 0.0f);
-    }
+    std::vector<Vector3f> centre;
+    centre.reserve(frame.count);
+    for (const Vector3d& p : positions(frame)) centre.push_back(p.cast<float>());
     if (settings.surface)
       build_mesh(device, frame, look, centre, albedo);
     else

@@ -86,20 +86,17 @@ Stage fit_stage(const PointTable& first, const RenderLook& look, const RenderSet
   std::vector<std::pair<Vector3d, double>> points;
   Vector3d lo = Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   double low = std::numeric_limits<double>::infinity();
-  if (first.count > 0) {
-    const std::vector<double>&x = first.column("x"), &y = first.column("y");
-    const std::vector<double>* z = first.has("z") ? &first.column("z") : nullptr;
-    points.reserve(first.count);
-    for (size_t i = 0; i < first.count; ++i) {
-      // The stored (float) precision, so that a frame renders the same from memory and file.
-      const Vector3d p(float(x[i]), float(y[i]), z ? float((*z)[i]) : 0.0f);
-      if (!p.allFinite()) continue;
-      const double r = radius[i];
-      points.push_back({p, r});
-      lo = lo.cwiseMin(p - Vector3d::Constant(r));
-      hi = hi.cwiseMax(p + Vector3d::Constant(r));
-      low = std::min(low, p.dot(up) - r);
-    }
+  const std::vector<Vector3d> centre = positions(first);
+  points.reserve(centre.size());
+  for (size_t i = 0; i < centre.size(); ++i) {
+    // The stored (float) precision, so that a frame renders the same from memory and file.
+    const Vector3d p = centre[i].cast<float>().cast<double>();
+    if (!p.allFinite()) continue;
+    const double r = radius[i];
+    points.push_back({p, r});
+    lo = lo.cwiseMin(p - Vector3d::Constant(r));
+    hi = hi.cwiseMax(p + Vector3d::Constant(r));
+    low = std::min(low, p.dot(up) - r);
   }
   Stage stage;
   if (points.empty()) {  // nothing to frame: a unit box at the origin

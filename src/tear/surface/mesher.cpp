@@ -110,13 +110,11 @@ TriMesh mesh_particles(const PointTable& frame, const MeshOptions& o) {
         "mesh: cannot estimate the particle spacing (fewer than two distinct points); give "
         "the spacing");
 
-  const std::vector<double>& x = frame.column("x");
-  const std::vector<double>& y = frame.column("y");
-  const std::vector<double>* z = frame.has("z") ? &frame.column("z") : nullptr;
+  const std::vector<Eigen::Vector3d> centre = positions(frame);
   const std::vector<double>* damage = frame.has("damage") ? &frame.column("damage") : nullptr;
-  bool flat = true;
-  for (size_t i = 1; z && i < frame.count && flat; ++i) flat = (*z)[i] == (*z)[0];
-  const double z0 = z ? (*z)[0] : 0.0;
+  const double z0 = centre[0].z();
+  const bool flat = std::all_of(centre.begin(), centre.end(),
+                                [&](const Eigen::Vector3d& p) { return p.z() == z0; });
   const double inset = std::max(0.0, radius - kBulge) * h;
   // A coarse voxel widens the holes, so that one damaged layer still parts the two sides.
   const double carve = std::max(kCarve, kMinRadius * voxel) * h;
@@ -125,8 +123,8 @@ TriMesh mesh_particles(const PointTable& frame, const MeshOptions& o) {
   const std::vector<double> layers =
       flat ? std::vector<double>{-h / 2, 0, h / 2} : std::vector<double>{0};
   for (size_t i = 0; i < frame.count; ++i) {
-    const openvdb::Vec3R p(x[i], y[i], z ? (*z)[i] : 0.0);
-    if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z())) continue;
+    const Eigen::Vector3d& p = centre[i];
+    if (!p.allFinite()) continue;
     ParticleList& list = damage && (*damage)[i] > o.damage_threshold ? carved : whole;
     for (double dz : layers) list.p.emplace_back(p.x(), p.y(), p.z() + dz);
   }

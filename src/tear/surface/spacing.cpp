@@ -115,15 +115,10 @@ class HashGrid {
 }  // namespace
 
 double estimate_spacing(const PointTable& frame) {
-  const std::vector<double>& x = frame.column("x");
-  const std::vector<double>& y = frame.column("y");
-  const std::vector<double>* z = frame.has("z") ? &frame.column("z") : nullptr;
-  std::vector<Eigen::Vector3d> points;
-  points.reserve(frame.count);
-  for (size_t i = 0; i < frame.count; ++i) {
-    const Eigen::Vector3d p(x[i], y[i], z ? (*z)[i] : 0.0);
-    if (p.allFinite()) points.push_back(p);
-  }
+  std::vector<Eigen::Vector3d> points = positions(frame);
+  points.erase(std::remove_if(points.begin(), points.end(),
+                              [](const Eigen::Vector3d& p) { return !p.allFinite(); }),
+               points.end());
   if (points.size() < 2 || points.size() > std::numeric_limits<uint32_t>::max() / 2) return 0;
   Eigen::Vector3d lo = points[0], hi = points[0];
   for (const Eigen::Vector3d& p : points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
