@@ -19,26 +19,23 @@ void Camera::basis(Vector3d* right, Vector3d* up_cam, Vector3d* forward) const {
   *up_cam = right->cross(*forward);
 }
 
-Vector3d Camera::ray(double px, double py) const {
-  Vector3d r, u, f;
-  basis(&r, &u, &f);
-  const double ty = std::tan(0.5 * fov_deg * M_PI / 180);
-  const double tx = ty * width / height;
-  const double sx = (2 * px / width - 1) * tx;
-  const double sy = (1 - 2 * py / height) * ty;
-  return (f + sx * r + sy * u).normalized();
+CameraView Camera::view() const {
+  CameraView v;
+  basis(&v.right, &v.up, &v.forward);
+  v.eye = position;
+  v.ty = std::tan(0.5 * fov_deg * M_PI / 180);
+  v.tx = v.ty * width / height;
+  v.width = width;
+  v.height = height;
+  return v;
 }
 
-bool Camera::project(const Vector3d& p, double* px, double* py) const {
-  Vector3d r, u, f;
-  basis(&r, &u, &f);
-  const Vector3d rel = p - position;
-  const double depth = rel.dot(f);
+bool CameraView::project(const Vector3d& p, double* px, double* py) const {
+  const Vector3d rel = p - eye;
+  const double depth = rel.dot(forward);
   if (!(depth > 0)) return false;
-  const double ty = std::tan(0.5 * fov_deg * M_PI / 180);
-  const double tx = ty * width / height;
-  *px = 0.5 * width * (1 + rel.dot(r) / depth / tx);
-  *py = 0.5 * height * (1 - rel.dot(u) / depth / ty);
+  *px = 0.5 * width * (1 + rel.dot(right) / depth / tx);
+  *py = 0.5 * height * (1 - rel.dot(up) / depth / ty);
   return true;
 }
 

@@ -380,19 +380,16 @@ struct Tracer {
   const Geometry& geo;
   const Stage& stage;
   int samples;
-  Vector3d eye, right, up_cam, forward, up, key;
-  double tx, ty, cos_key, eps, ao_reach;
+  CameraView view;
+  Vector3d up, key;
+  double cos_key, eps, ao_reach;
   Vector3f top, bottom;  // background, linear
 
   Tracer(const Geometry& g, const Stage& st, const RenderLook& look, int n)
-      : geo(g), stage(st), samples(n) {
-    const Camera& c = st.camera;
-    c.basis(&right, &up_cam, &forward);
-    eye = c.position;
+      : geo(g), stage(st), samples(n), view(st.camera.view()) {
     up = look.up.normalized();
-    ty = std::tan(0.5 * c.fov_deg * M_PI / 180);
-    tx = ty * c.width / c.height;
     // Key light from above, in front of the body and to the left as the camera sees it.
+    const Vector3d &forward = view.forward, &right = view.right;
     Vector3d back = -forward - (-forward).dot(up) * up, side = right - right.dot(up) * up;
     if (back.norm() < 1e-6) back = side.cross(up);
     if (side.norm() < 1e-6) side = up.cross(back);
@@ -443,9 +440,8 @@ struct Tracer {
   }
 
   Vector3f trace(RTCIntersectContext* ctx, double px, double py, const Sampler& sm, int s) const {
-    const Vector3d d = (forward + (2 * px / stage.camera.width - 1) * tx * right +
-                        (1 - 2 * py / stage.camera.height) * ty * up_cam)
-                           .normalized();
+    const Vector3d d = view.ray(px, py);
+    const Vector3d& eye = view.eye;
     double t_ground = kInf;
     const double du = d.dot(up);
     if (du < 0) {
