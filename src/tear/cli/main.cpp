@@ -4,6 +4,7 @@
 #include "tear/driver/mesh_frames.h"
 #include "tear/driver/render_frames.h"
 #include "tear/driver/run.h"
+#include "tear/scene/scene.h"
 
 #include <CLI/CLI.hpp>
 
@@ -25,15 +26,21 @@ struct RenderArgs {
     keep(cmd->add_option("--color", color,
                          "Colour by damage, material, fibers or velocity (default: the scene's "
                          "render.color, damage)")
-             ->check(CLI::IsMember({"damage", "material", "fibers", "velocity"})));
+             ->check(CLI::IsMember(std::vector<std::string>(std::begin(tear::RenderSpec::kColors),
+                                                            std::end(tear::RenderSpec::kColors)))));
     keep(cmd->add_flag("--surface", surface,
                        "Draw the surface mesh of the particles instead of spheres"));
-    keep(cmd->add_option("--width", width, "Picture width in pixels (default 960)")
-             ->check(CLI::Range(16, 16384)));
-    keep(cmd->add_option("--height", height, "Picture height in pixels (default 540)")
-             ->check(CLI::Range(16, 16384)));
-    keep(cmd->add_option("--samples", samples, "Samples per pixel (default 4)")
-             ->check(CLI::Range(1, 1024)));
+    using tear::RenderSpec;
+    const RenderSpec def;
+    keep(cmd->add_option("--width", width,
+                         "Picture width in pixels (default " + std::to_string(def.width) + ")")
+             ->check(CLI::Range(RenderSpec::kMinSize, RenderSpec::kMaxSize)));
+    keep(cmd->add_option("--height", height,
+                         "Picture height in pixels (default " + std::to_string(def.height) + ")")
+             ->check(CLI::Range(RenderSpec::kMinSize, RenderSpec::kMaxSize)));
+    keep(cmd->add_option("--samples", samples,
+                         "Samples per pixel (default " + std::to_string(def.samples) + ")")
+             ->check(CLI::Range(1, RenderSpec::kMaxSamples)));
     keep(cmd->add_option("--camera-position", position,
                          "Camera position x,y,z (default: fitted to the first frame)")
              ->delimiter(',')

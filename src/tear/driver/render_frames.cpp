@@ -77,12 +77,14 @@ RenderSettings settings_of(const RenderSpec& spec, const RenderOverrides& o) {
   st.fov_deg = o.fov_deg.value_or(spec.fov_deg);
   st.radius = o.radius.value_or(0);
   if (o.velocity_max) st.velocity_max = *o.velocity_max;
-  if (st.width < 16 || st.height < 16 || st.width > 16384 || st.height > 16384)
+  const int lo = RenderSpec::kMinSize, hi = RenderSpec::kMaxSize;
+  if (st.width < lo || st.height < lo || st.width > hi || st.height > hi)
     throw std::runtime_error("picture size " + std::to_string(st.width) + "x" +
-                             std::to_string(st.height) +
-                             ": width and height must be in [16, 16384]");
-  if (st.samples < 1 || st.samples > 1024)
-    throw std::runtime_error("--samples " + std::to_string(st.samples) + ": must be in [1, 1024]");
+                             std::to_string(st.height) + ": width and height must be in [" +
+                             std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  if (st.samples < 1 || st.samples > RenderSpec::kMaxSamples)
+    throw std::runtime_error("--samples " + std::to_string(st.samples) + ": must be in [1, " +
+                             std::to_string(RenderSpec::kMaxSamples) + "]");
   if (!(st.fov_deg > 0 && st.fov_deg < 180))
     throw std::runtime_error("--fov " + std::to_string(st.fov_deg) + ": must be in (0, 180)");
   if (o.radius && !(*o.radius > 0)) throw std::runtime_error("--radius: must be > 0");

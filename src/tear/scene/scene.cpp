@@ -152,9 +152,11 @@ json parse_render(const Reader& r, const json& doc, Scene* s) {
   if (!v) v = &kEmpty;
   r.object(*v, "render", {"camera", "color", "width", "height", "samples", "surface"});
   RenderSpec& rs = s->render;
-  const char* colors[] = {"damage", "material", "fibers", "velocity"};
-  rs.color =
-      colors[r.choice(*v, "render", "color", {"damage", "material", "fibers", "velocity"}, 0)];
+  const RenderSpec def;
+  const auto& colors = RenderSpec::kColors;
+  static_assert(std::size(RenderSpec::kColors) == 4);
+  rs.color = colors[r.choice(*v, "render", "color", {colors[0], colors[1], colors[2], colors[3]},
+                             0)];
   auto bounded = [&](const char* key, long long def, long long lo, long long hi) {
     const long long x = r.integer(*v, "render", key, def);
     r.check(x >= lo && x <= hi, key_path("render", key),
@@ -162,10 +164,10 @@ json parse_render(const Reader& r, const json& doc, Scene* s) {
                 std::to_string(x));
     return int(x);
   };
-  rs.width = bounded("width", 960, 16, 16384);
-  rs.height = bounded("height", 540, 16, 16384);
-  rs.samples = bounded("samples", 4, 1, 1024);
-  rs.surface = r.boolean(*v, "render", "surface", false);
+  rs.width = bounded("width", def.width, RenderSpec::kMinSize, RenderSpec::kMaxSize);
+  rs.height = bounded("height", def.height, RenderSpec::kMinSize, RenderSpec::kMaxSize);
+  rs.samples = bounded("samples", def.samples, 1, RenderSpec::kMaxSamples);
+  rs.surface = r.boolean(*v, "render", "surface", def.surface);
   json camera = {{"position", nullptr}, {"target", nullptr}, {"up", nullptr}};
   const json* c = r.find(*v, "camera");
   if (c) r.object(*c, "render.camera", {"position", "target", "up", "fov_deg"});

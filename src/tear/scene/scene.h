@@ -88,7 +88,11 @@ struct BoundarySpec {
 // Preview rendering defaults ("render" section) for `tear render` and `tear run --render`;
 // their command-line options override these. Camera vectors are 3D in 2D scenes too.
 struct RenderSpec {
-  std::string color = "damage";  // damage, material, fibers or velocity
+  // The colour maps and the bounds on the picture that the scene and the command line share.
+  static constexpr const char* kColors[] = {"damage", "material", "fibers", "velocity"};
+  static constexpr int kMinSize = 16, kMaxSize = 16384, kMaxSamples = 1024;
+
+  std::string color = "damage";  // one of kColors
   int width = 960, height = 540;
   int samples = 4;  // per pixel
   bool surface = false;
