@@ -216,7 +216,7 @@ TEST_F(Cli, InfoAndQuickBench) {
   }
   for (const char* k : {"none", "explicit", "implicit"})
     EXPECT_GT(b["damage"][k]["s_per_step"].get<double>(), 0) << k;
-  EXPECT_GE(b["damage"]["implicit"]["cg_iterations_per_solve"].get<double>(), 1.0);
+  EXPECT_GE(b["damage"]["implicit"]["damage_iterations_per_solve"].get<double>(), 1.0);
   EXPECT_GT(b["damage"]["implicit"]["cost_vs_none"].get<double>(), 1.0);
 }
 
@@ -258,7 +258,7 @@ TEST_F(Cli, CheckPrintsTheCrackOnsetStretch) {
   EXPECT_GT(along, across) << out_;
 }
 
-TEST_F(Cli, ImplicitDamageRecordsCgFiguresAndResumesBitIdentically) {
+TEST_F(Cli, ImplicitDamageRecordsSolverFiguresAndResumesBitIdentically) {
   const std::string s = write_scene(tearing_scene());
   ASSERT_EQ(tear("run " + s + " -o " + path("full") + " -q"), 0) << err_;
   EXPECT_EQ(err_.find("warning"), std::string::npos) << err_;
@@ -267,13 +267,13 @@ TEST_F(Cli, ImplicitDamageRecordsCgFiguresAndResumesBitIdentically) {
   EXPECT_GT(a.back()["max_damage"].get<double>(), 0.9);
   long solves = 0, iterations = 0;
   for (const json& f : a) {
-    for (const char* k : {"cg_solves", "cg_iterations", "cg_iterations_max", "cg_unconverged",
-                          "residual"})
+    for (const char* k : {"damage_solves", "damage_iterations", "damage_iterations_max",
+                          "damage_unconverged", "damage_change"})
       EXPECT_TRUE(f.contains(k)) << k;
-    solves += f["cg_solves"].get<long>();
-    iterations += f["cg_iterations"].get<long>();
-    EXPECT_EQ(f["cg_unconverged"], 0);
-    EXPECT_LE(f["residual"].get<double>(), 1e-6);
+    solves += f["damage_solves"].get<long>();
+    iterations += f["damage_iterations"].get<long>();
+    EXPECT_EQ(f["damage_unconverged"], 0);
+    EXPECT_LE(f["damage_change"].get<double>(), 1e-6);
   }
   EXPECT_GT(solves, 0);
   EXPECT_LE(iterations, 3 * solves);
@@ -281,14 +281,14 @@ TEST_F(Cli, ImplicitDamageRecordsCgFiguresAndResumesBitIdentically) {
   ASSERT_EQ(tear("run " + s + " -o " + path("part") + " -q --frames 2"), 0) << err_;
   ASSERT_EQ(tear("run " + s + " -o " + path("part") + " -q --resume --frames 4"), 0) << err_;
   EXPECT_EQ(read_file(path("full/frames/00004.ply")), read_file(path("part/frames/00004.ply")));
-  // A CG that cannot converge is reported once on stderr, and counted.
+  // A solve that cannot converge is reported once on stderr, and counted.
   ASSERT_EQ(tear("run " + s + " -o " + path("capped") +
-                 " -q --set damage.cg_max_iterations=1 --set damage.cg_tolerance=1e-14"),
+                 " -q --set damage.max_iterations=1 --set damage.tolerance=1e-14"),
             0)
       << err_;
   EXPECT_NE(err_.find("warning: frame"), std::string::npos) << err_;
   EXPECT_EQ(err_.find("warning", err_.find("warning") + 1), std::string::npos) << err_;
-  EXPECT_GT(stats(path("capped")).back()["cg_unconverged"].get<long>(), 0);
+  EXPECT_GT(stats(path("capped")).back()["damage_unconverged"].get<long>(), 0);
 }
 
 }  // namespace

@@ -138,8 +138,8 @@ nlohmann::json bench_damage(long particles, int steps, int threads) {
     if (k > 0) r["cost_vs_none"] = per_step[k] / per_step[0];
     if (k == 2) {
       const DamageSolveStats& ds = sim.damage_stats();
-      r["cg_iterations_per_solve"] = ds.solves ? double(ds.cg_iterations) / ds.solves : 0.0;
-      r["cg_iterations_max"] = ds.cg_iterations_max;
+      r["damage_iterations_per_solve"] = ds.solves ? double(ds.iterations) / ds.solves : 0.0;
+      r["damage_iterations_max"] = ds.iterations_max;
     }
     out[names[k]] = r;
   }

@@ -229,7 +229,7 @@ int run_scene(const RunOptions& o) {
 
     Progress progress(!o.quiet, scene.frames, sim->frame());
     const long steps_before = sim->total_steps();
-    bool warned_cg = false;
+    bool warned_unconverged = false;
     while (sim->frame() < scene.frames) {
       sim->advance_frame();
       const int frame = sim->frame();
@@ -238,14 +238,14 @@ int run_scene(const RunOptions& o) {
       if (!std::isfinite(s.kinetic_energy) || !std::isfinite(s.momentum.norm()))
         return fail("the simulation became unstable at frame " + std::to_string(frame) +
                     " (non-finite velocities); lower time.cfl or time.max_dt");
-      if (s.cg_unconverged > 0 && !warned_cg) {
+      if (s.damage_unconverged > 0 && !warned_unconverged) {
         std::fprintf(stderr,
                      "tear: warning: frame %d: %ld implicit damage solve(s) stopped at "
-                     "damage.cg_max_iterations = %d with residual %.3g > damage.cg_tolerance "
-                     "%.3g (stats.jsonl: cg_unconverged, residual); shown once\n",
-                     frame, s.cg_unconverged, scene.damage.cg_max_iterations, s.residual,
-                     scene.damage.cg_tolerance);
-        warned_cg = true;
+                     "damage.max_iterations = %d with a last change of %.3g > damage.tolerance "
+                     "%.3g (stats.jsonl: damage_unconverged, damage_change); shown once\n",
+                     frame, s.damage_unconverged, scene.damage.max_iterations, s.damage_change,
+                     scene.damage.tolerance);
+        warned_unconverged = true;
       }
       if (frame % scene.output_every == 0 || frame == scene.frames) {
         const PointTable table = write_frame(o.out_dir, frame, *sim, scene.formats, &vtu_times);
@@ -306,7 +306,8 @@ int check_scene(const std::string& scene_path, const std::vector<std::string>& o
       out << (i ? ", " : ": ") << colliders[i].at("type").get<std::string>() << " "
           << colliders[i].at("shape").at("type").get<std::string>();
     out << "\n";
-    const double dt = sim->estimate_dt();
+    const DtLimits limits = sim->dt_limits();
+    const double dt = limits.dt();
     const PointTable table = sim->frame_table();
     size_t frame_bytes = 0;
     for (const std::string& f : s.formats) frame_bytes += encode_points(table, f).size();
@@ -316,7 +317,13 @@ int check_scene(const std::string& scene_path, const std::vector<std::string>& o
     out << "particles  " << sim->num_particles() << "\n";
     out << "time       " << s.frames << " frames of " << s.frame_dt << " s; dt " << dt
         << " s at rest (about " << std::lround(std::ceil(s.frame_dt / dt))
-        << " steps per frame)\n";
+        << " steps per frame), set by " << limits.limiting() << "\n";
+    out << "dt limits  max_dt " << limits.max_dt << ", wave speed " << limits.wave;
+    if (std::isfinite(limits.velocity)) out << ", particle speed " << limits.velocity;
+    if (std::isfinite(limits.damage))
+      out << ", explicit damage " << limits.damage << " (" << limits.damage_cracking
+          << " while cracks grow)";
+    out << "\n";
     out << "memory     about " << size_text(double(sim->memory_bytes())) << "\n";
     out << "output     " << written << " frames of " << size_text(double(frame_bytes)) << " ("
         << size_text(double(frame_bytes) * written) << "), checkpoint "

@@ -1,26 +1,112 @@
 // mpm/: the phase-field damage update of one step (EQUATIONS.md §1), explicit and implicit.
 // The per-particle physics (driving force, structural tensor, degradation) lives in damage/;
 // this file does the grid transfers, which need the particles and the sparse grid.
+//
+// Both solvers integrate the same semi-discrete law on the particles,
+//   eta d_p' = < (1 - d_p) D_p - (d_p - l0^2 (L d)_p) >,
+// where (L d)_p = sum_i LapN_i(x_p) d_i is the Laplacian of the normalised cubic B-spline
+// average d_i = sum_q w_iq d_q / sum_q w_iq (supplement Alg. 4). Explicit: forward Euler
+// (paper Eq. 11). Implicit: backward Euler, solved for the particles' damage by sweeps
+// (docs/materials.md "Damage solvers"), so that it tends to the explicit result as dt shrinks.
 #include "tear/damage/driving_force.h"
 #include "tear/math/parallel.h"
 #include "tear/mpm/solver.h"
-#include "tear/solvers/pcg.h"
 
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace tear {
 
 namespace {
 // Cubic B-spline: the damage kernel (supplement Alg. 4, 7: "we must use cubic B-spline").
 constexpr int kDamageOrder = 3;
-// MLS-MPM inverse inertia M_p^-1 = 3 / dx^2 of the cubic B-spline (Hu et al. 2018).
-constexpr double kCubicInvD = 3.0;
-// Smallest J used for the current particle volume V = J V0 in the implicit system (an
-// inverted particle still needs a positive weight).
-constexpr Real kMinJ = Real(1e-3);
+
+// hot[h]: home block h (index into grid.home_blocks()) holds a particle with d > 0.
+template <int Dim>
+std::vector<char> damaged_blocks(const Particles<Dim>& p, const SparseGrid<Dim>& grid) {
+  const auto& order = grid.order();
+  const auto& homes = grid.home_blocks();
+  std::vector<char> hot(homes.size(), 0);
+  tbb::parallel_for(size_t(0), homes.size(), [&](size_t h) {
+    for (uint32_t k = homes[h].begin; k < homes[h].end && !hot[h]; ++k)
+      hot[h] = p.damage[order[k]] > 0;
+  });
+  return hot;
+}
+
+// The particles' damage to the grid, d_i = sum_p w_ip d_p / sum_p w_ip (cubic B-spline), from
+// the particles of the home blocks flagged in `near` (coloured, so without races, in a fixed
+// order). Outside those blocks' stencils the field is 0; so is it where no damaged particle
+// is near (see SparseGrid::near_hot_blocks).
+template <int Dim>
+void damage_to_grid(const Particles<Dim>& p, SparseGrid<Dim>* grid,
+                    const std::vector<char>& near) {
+  SparseGrid<Dim>& g = *grid;
+  g.zero_scalar_fields();
+  const auto& order = g.order();
+  const auto& homes = g.home_blocks();
+  for (int c = 0; c < SparseGrid<Dim>::kColours; ++c) {
+    const std::vector<int>& blocks = g.colour(c);
+    tbb::parallel_for(size_t(0), blocks.size(), [&](size_t b) {
+      if (!near[size_t(blocks[b])]) return;
+      const auto& h = homes[size_t(blocks[b])];
+      for (uint32_t k = h.begin; k < h.end; ++k) {
+        const uint32_t q = order[k];
+        const Real d = p.damage[q];
+        Stencil<Dim, kDamageOrder>(g, p.x[q]).visit([&](int i, Real w, const Vec<Dim>&) {
+          g.scalar[i] += w * d;
+          g.scalar_weight[i] += w;
+        });
+      }
+    });
+  }
+  tbb::parallel_for(size_t(0), g.num_active_nodes(), [&](size_t i) {
+    if (g.scalar_weight[i] > 0) g.scalar[i] /= g.scalar_weight[i];
+  });
+}
+
+// One sweep of a damage update over the damageable particles of the home blocks flagged in
+// `visit`: d_p <- rule(p, l0^2 (L d)_p, dt / eta_p), with the Laplacian of the grid field (0
+// outside the blocks flagged in `near`). Returns the largest change; marks in `hot` the visited
+// blocks that now hold damaged particles.
+template <int Dim, class Rule>
+Real damage_sweep(Particles<Dim>* particles, const SparseGrid<Dim>& grid,
+                  const std::vector<DamageSpec>& specs, Real l0, Real dt,
+                  const std::vector<char>& visit, const std::vector<char>& near, Rule&& rule,
+                  std::vector<char>* hot) {
+  Particles<Dim>& p = *particles;
+  const Real l2 = l0 * l0;
+  const auto& order = grid.order();
+  const auto& homes = grid.home_blocks();
+  std::vector<Real> change(homes.size(), 0);
+  tbb::parallel_for(size_t(0), homes.size(), [&](size_t b) {
+    if (!visit[b]) return;
+    Real most = 0;
+    bool damaged = false;
+    for (uint32_t k = homes[b].begin; k < homes[b].end; ++k) {
+      const uint32_t q = order[k];
+      const DamageSpec& ds = specs[p.material[q]];
+      if (!ds.enabled) continue;
+      Real lap = 0;
+      if (near[b]) {
+        Stencil<Dim, kDamageOrder>(grid, p.x[q]).visit_laplacian(
+            [&](int i, Real lap_w) { lap += lap_w * grid.scalar[i]; });
+      }
+      const Real old = p.damage[q];
+      const Real d = rule(q, l2 * lap, dt / Real(ds.eta));
+      p.damage[q] = d;
+      most = std::max(most, std::abs(d - old));
+      damaged = damaged || d > 0;
+    }
+    change[b] = most;
+    if (hot && damaged) (*hot)[b] = 1;
+  });
+  return *std::max_element(change.begin(), change.end());
+}
+
 }  // namespace
 
 template <int Dim>
@@ -55,181 +141,105 @@ void MpmSolver<Dim>::update_driving_force() {
 }
 
 template <int Dim>
-std::vector<char> MpmSolver<Dim>::active_damage_blocks(bool with_drive) const {
-  const auto& order = grid_.order();
-  const auto& homes = grid_.home_blocks();
-  std::vector<char> hot(homes.size(), 0);
-  tbb::parallel_for(size_t(0), homes.size(), [&](size_t h) {
-    for (uint32_t k = homes[h].begin; k < homes[h].end && !hot[h]; ++k) {
-      const uint32_t p = order[k];
-      hot[h] = p_.damage[p] > 0 || (with_drive && p_.drive[p] > 0);
-    }
-  });
-  return grid_.near_hot_blocks(hot);
-}
-
-// Visits the particles of the home blocks flagged in `active` (all when empty): coloured, so
-// that fn may scatter to its particles' cubic stencils without races, in a fixed order.
-template <int Dim, class Fn>
-static void for_active_particles_coloured(const SparseGrid<Dim>& grid,
-                                          const std::vector<char>& active, Fn&& fn) {
-  const auto& order = grid.order();
-  const auto& homes = grid.home_blocks();
-  for (int c = 0; c < SparseGrid<Dim>::kColours; ++c) {
-    const std::vector<int>& blocks = grid.colour(c);
-    tbb::parallel_for(size_t(0), blocks.size(), [&](size_t b) {
-      if (!active[size_t(blocks[b])]) return;
-      const auto& h = homes[size_t(blocks[b])];
-      for (uint32_t k = h.begin; k < h.end; ++k) fn(order[k]);
-    });
-  }
-}
-
-// The same without colouring (gathers only).
-template <int Dim, class Fn>
-static void for_active_particles(const SparseGrid<Dim>& grid, const std::vector<char>& active,
-                                 Fn&& fn) {
-  const auto& order = grid.order();
-  const auto& homes = grid.home_blocks();
-  tbb::parallel_for(size_t(0), homes.size(), [&](size_t b) {
-    if (!active[b]) return;
-    for (uint32_t k = homes[b].begin; k < homes[b].end; ++k) fn(order[k]);
-  });
-}
-
-template <int Dim>
 void MpmSolver<Dim>::damage_explicit(Real dt) {
-  const Real l0 = Real(scene_.damage.l0);
-  // While nothing nearby is damaged the field and its Laplacian are zero: particles outside
-  // the neighbourhood of damaged ones skip the transfer (exactly: see near_hot_blocks).
-  const std::vector<char> active = active_damage_blocks(false);
-  // Damage to the grid (cubic B-spline, normalised).
-  grid_.zero_scalar_fields();
-  for_active_particles_coloured(grid_, active, [&](uint32_t p) {
-    const Real d = p_.damage[p];
-    Stencil<Dim, kDamageOrder>(grid_, p_.x[p]).visit([&](int i, Real w, const Vec<Dim>&) {
-      grid_.scalar[i] += w * d;
-      grid_.scalar_weight[i] += w;
-    });
-  });
-  tbb::parallel_for(size_t(0), grid_.num_active_nodes(), [&](size_t i) {
-    if (grid_.scalar_weight[i] > 0) grid_.scalar[i] /= grid_.scalar_weight[i];
-  });
-  // Laplacian back to the particles, then the update: d grows where the undamaged part of
-  // the driving force beats the geometric resistance Dc = d - l0^2 Lap d (which also lets a
-  // crack widen to its regularised width l0).
-  const auto& order = grid_.order();
-  const auto& homes = grid_.home_blocks();
-  tbb::parallel_for(size_t(0), homes.size(), [&](size_t b) {
-    for (uint32_t k = homes[b].begin; k < homes[b].end; ++k) {
-      const uint32_t p = order[k];
-      const DamageSpec& ds = damage_[p_.material[p]];
-      if (!ds.enabled) continue;
-      Real lap = 0;
-      if (active[b]) {
-        Stencil<Dim, kDamageOrder>(grid_, p_.x[p]).visit_laplacian(
-            [&](int i, Real lap_w) { lap += lap_w * grid_.scalar[i]; });
-      }
-      const Real d = p_.damage[p];
-      const Real resistance = d - l0 * l0 * lap;
-      const Real drive = (1 - d) * p_.drive[p];
-      if (drive > resistance)
-        p_.damage[p] = std::min(Real(1), d + dt / Real(ds.eta) * (drive - resistance));
-    }
-  });
+  // Forward Euler (supplement Alg. 3-5): d grows where the undamaged part of the driving force
+  // beats the geometric resistance Dc = d - l0^2 Lap d (which also lets a crack widen to its
+  // regularised width l0), capped at 1. While nothing nearby is damaged the field and its
+  // Laplacian are zero: particles outside the neighbourhood of damaged ones skip the transfer.
+  const std::vector<char> near = grid_.near_hot_blocks(damaged_blocks(p_, grid_));
+  damage_to_grid(p_, &grid_, near);
+  const std::vector<char> all(near.size(), 1);
+  damage_sweep(&p_, grid_, damage_, Real(scene_.damage.l0), dt, all, near,
+               [&](uint32_t p, Real l2_lap, Real k) {
+                 const Real d = p_.damage[p];
+                 const Real rate = (1 - d) * p_.drive[p] - (d - l2_lap);
+                 return rate > 0 ? std::min(Real(1), d + k * rate) : d;
+               },
+               nullptr);
 }
 
 template <int Dim>
 void MpmSolver<Dim>::damage_implicit(Real dt) {
-  // Backward Euler of eta d' = (1 - d) D - (d - l0^2 Lap d) in weak form on the grid
-  // (supplement §2.2, Alg. 7-10; EQUATIONS.md §1 "Implicit"):
-  //   A_ii = sum_p V_p (1 + k_p (D_p + 1)) w_ip,   k_p = dt / eta_p
-  //   B_ij = sum_p V_p k_p l0^2 gradT_i(x_p) . gradT_j(x_p),  gradT_i = M^-1 w_ip (x_i - x_p)
-  //   c_i  = sum_p V_p (k_p D_p + d_i^n) w_ip
-  // Only damageable particles take part. Particles away from any damage or driving force
-  // (see active_damage_blocks) have c = 0 around them and keep d = 0 this step.
-  const std::vector<char> active = active_damage_blocks(true);
-  if (std::none_of(active.begin(), active.end(), [](char a) { return a != 0; })) return;
-  const size_t nodes = grid_.num_active_nodes();
-  const Real l2 = Real(scene_.damage.l0 * scene_.damage.l0);
-  const Real inv_m = Real(kCubicInvD / (scene_.dx * scene_.dx));
-  std::vector<ImplicitNodeSums>& f = implicit_sums_;
-  f.assign(nodes, ImplicitNodeSums{});
-  laplace_coef_.resize(p_.size());
-  for_active_particles_coloured(grid_, active, [&](uint32_t p) {
-    const DamageSpec& ds = damage_[p_.material[p]];
-    if (!ds.enabled) return;
-    const Real V = p_.vol0[p] * std::max(p_.F[p].determinant(), kMinJ);
-    const Real k = dt / Real(ds.eta), D = p_.drive[p], d = p_.damage[p];
-    const Real a = V * (1 + k * (D + 1)), cd = V * k * D, bl = V * k * l2;
-    laplace_coef_[p] = bl * inv_m * inv_m;
-    const Real lc = laplace_coef_[p];
-    Stencil<Dim, kDamageOrder>(grid_, p_.x[p]).visit([&](int i, Real w,
-                                                                  const Vec<Dim>& rel) {
-      ImplicitNodeSums& n = f[i];
-      n.w += w;
-      n.wd += w * d;
-      n.a += a * w;
-      n.cd += cd * w;
-      n.vw += V * w;
-      n.bd += lc * w * w * rel.squaredNorm();
-    });
-  });
-  // d_i^n (kept in grid_.scalar for the FLIP transfer), right-hand side, preconditioner.
-  grid_.zero_scalar_fields();
-  std::vector<Real>& dn = grid_.scalar;
-  rhs_.assign(nodes, Real(0));
-  inv_diag_.assign(nodes, Real(0));
-  solution_.assign(nodes, Real(0));
-  tbb::parallel_for(size_t(0), nodes, [&](size_t i) {
-    const ImplicitNodeSums& n = f[i];
-    if (!(n.w > 0)) return;
-    dn[i] = n.wd / n.w;
-    rhs_[i] = n.cd + dn[i] * n.vw;
-    inv_diag_[i] = 1 / (n.a + n.bd);
-    solution_[i] = dn[i];
-  });
-  // (A + B) x, matrix-free: B x = sum_p c_p gradW_i . (sum_j gradW_j x_j), gathered and
-  // scattered per particle (gradW = w (x_i - x_p); c_p = V k l0^2 M^-2 holds the rest).
-  auto apply = [&](const std::vector<Real>& x, std::vector<Real>& y) {
-    tbb::parallel_for(size_t(0), nodes, [&](size_t i) { y[i] = f[i].a * x[i]; });
-    for_active_particles_coloured(grid_, active, [&](uint32_t p) {
-      if (!damage_[p_.material[p]].enabled) return;
-      const Stencil<Dim, kDamageOrder> st(grid_, p_.x[p]);
-      Vec<Dim> g = Vec<Dim>::Zero();
-      st.visit([&](int i, Real w, const Vec<Dim>& rel) { g += (w * x[i]) * rel; });
-      g *= laplace_coef_[p];
-      st.visit([&](int i, Real w, const Vec<Dim>& rel) { y[i] += w * rel.dot(g); });
-    });
+  // Backward Euler of the same law: with k = dt / eta and the bracket active,
+  //   (1 + k (1 + D_p)) d_p - k l0^2 (L d)_p = d_p^n + k D_p,
+  // and d_p = d_p^n where it is not (damage never heals), capped at 1. That is the fixed point
+  // d_p = clamp((d_p^n + k (D_p + l0^2 (L d)_p)) / (1 + k (1 + D_p)), d_p^n, 1), found by
+  // sweeps that take the Laplacian of the previous sweep's damage (Jacobi). The first sweep
+  // treats the reaction implicitly and the Laplacian explicitly; the sweep's error factor is
+  // at most k rho / (1 + k) with rho the spectral radius of l0^2 L (about 0.35 (2 l0 / dx)^2,
+  // measured), below 1 for any eta when l0 <= 0.8 dx. Larger l0 with large k relax the
+  // sweep by omega = 2 / (2 + k rho / (1 + k)), which keeps the factor below 1.
+  const DamageSolverSpec& spec = scene_.damage;
+  start_damage_ = p_.damage;
+  Real kappa = 0;  // max over materials of k / (1 + k)
+  for (const DamageSpec& ds : damage_)
+    if (ds.enabled) kappa = std::max(kappa, dt / (Real(ds.eta) + dt));
+  const double l0_dx = spec.l0 / scene_.dx;
+  const Real rho = Real(kLaplacianRadius * 4 * l0_dx * l0_dx) * kappa;
+  const Real omega = rho <= 1 ? Real(1) : Real(2) / (2 + rho);
+  auto rule = [&](uint32_t p, Real l2_lap, Real k) {
+    const Real d0 = start_damage_[p], D = p_.drive[p];
+    const Real target = std::clamp((d0 + k * (D + l2_lap)) / (1 + k * (1 + D)), d0, Real(1));
+    return omega == 1 ? target : (1 - omega) * p_.damage[p] + omega * target;
   };
-  const PcgResult res = pcg_solve(apply, rhs_, inv_diag_, scene_.damage.cg_tolerance,
-                                  scene_.damage.cg_max_iterations, &solution_);
+  std::vector<char> hot = damaged_blocks(p_, grid_);
+  std::vector<char> near = grid_.near_hot_blocks(hot);
+  std::vector<char> visit(near.size(), 1);  // the first sweep: every particle
+  int sweeps = 0;
+  Real change = 0;
+  while (sweeps < spec.max_iterations) {
+    damage_to_grid(p_, &grid_, near);
+    change = damage_sweep(&p_, grid_, damage_, Real(spec.l0), dt, visit, near, rule, &hot);
+    ++sweeps;
+    if (change <= spec.tolerance) break;
+    // Only particles near damage see a Laplacian that the last sweep changed.
+    near = grid_.near_hot_blocks(hot);
+    visit = near;
+  }
   DamageSolveStats& s = damage_stats_;
   ++s.solves;
-  s.cg_iterations += res.iterations;
-  s.cg_iterations_max = std::max(s.cg_iterations_max, res.iterations);
-  s.residual_max = std::max(s.residual_max, res.residual);
-  s.unconverged += res.converged ? 0 : 1;
-  // Back to the particles: FLIP d_p + sum_i w_ip (d_i^{n+1} - d_i^n) (default) or PIC
-  // sum_i w_ip d_i^{n+1}, clamped to [d_p^n, 1]: damage never heals.
-  const bool flip = scene_.damage.transfer == Transfer::Flip;
-  for_active_particles(grid_, active, [&](uint32_t p) {
-    if (!damage_[p_.material[p]].enabled) return;
-    Real d = flip ? p_.damage[p] : Real(0);
-    Stencil<Dim, kDamageOrder>(grid_, p_.x[p]).visit([&](int i, Real w, const Vec<Dim>&) {
-      d += w * (flip ? solution_[i] - dn[i] : solution_[i]);
-    });
-    p_.damage[p] = std::clamp(d, p_.damage[p], Real(1));
-  });
+  s.iterations += sweeps;
+  s.iterations_max = std::max(s.iterations_max, sweeps);
+  s.change_max = std::max(s.change_max, double(change));
+  s.unconverged += change <= spec.tolerance ? 0 : 1;
 }
 
-#define TEAR_DAMAGE_INSTANTIATE(D)                                              \
-  template void MpmSolver<D>::damage_step(double);                              \
-  template void MpmSolver<D>::damage_update(Real);                              \
-  template void MpmSolver<D>::update_driving_force();                           \
-  template std::vector<char> MpmSolver<D>::active_damage_blocks(bool) const;    \
-  template void MpmSolver<D>::damage_explicit(Real);                            \
-  template void MpmSolver<D>::damage_implicit(Real);
+template <int Dim>
+double MpmSolver<Dim>::damage_dt_limit(bool cracking) const {
+  // Forward Euler of eta d' = (1 + D) (d* - d) + l0^2 L d (d* = D / (1 + D)) is monotone,
+  // never overshooting d* or amplifying a Laplacian mode, when dt (1 + D + |l0^2 L|) <= eta;
+  // |l0^2 L| <= l0^2 max_p sum_i |LapN_i(x_p)| <= 4 dim l0^2 / dx^2 (the normalised average
+  // does not grow values; the 1-D cubic B-spline's sum_j |N''(x - j)| is at most 4, at
+  // nodes). Damage never decreases, so an overshoot would stay: the limit holds it off. Where
+  // D > kDriveCap the overshoot is below 1 / (1 + D) < 1 %, so D counts at most kDriveCap.
+  if (scene_.damage.solver != DamageSolver::Explicit) return std::numeric_limits<double>::infinity();
+  const double l0_dx = scene_.damage.l0 / scene_.dx;
+  const double diffusion = 4.0 * Dim * l0_dx * l0_dx;
+  // Largest (1 + min(D, cap) + diffusion) / eta over particles that can still crack.
+  double worst = 0;
+  for (const DamageSpec& ds : damage_)
+    if (ds.enabled) worst = std::max(worst, (1 + (cracking ? kDriveCap : 0) + diffusion) / ds.eta);
+  if (!cracking) {
+    worst = std::max(worst, parallel_max<double>(
+                                p_.size(),
+                                [&](size_t p) {
+                                  const DamageSpec& ds = damage_[p_.material[p]];
+                                  if (!ds.enabled || p_.damage[p] >= 1) return 0.0;
+                                  const double D = std::min(double(p_.drive[p]), kDriveCap);
+                                  return (1 + D + diffusion) / ds.eta;
+                                },
+                                0.0));
+  }
+  return worst > 0 ? 1 / worst : std::numeric_limits<double>::infinity();
+}
+
+#define TEAR_DAMAGE_INSTANTIATE(D)                                 \
+  template void MpmSolver<D>::damage_step(double);                 \
+  template void MpmSolver<D>::damage_update(Real);                 \
+  template void MpmSolver<D>::update_driving_force();              \
+  template void MpmSolver<D>::damage_explicit(Real);               \
+  template void MpmSolver<D>::damage_implicit(Real);               \
+  template double MpmSolver<D>::damage_dt_limit(bool) const;
 TEAR_DAMAGE_INSTANTIATE(2)
 TEAR_DAMAGE_INSTANTIATE(3)
 #undef TEAR_DAMAGE_INSTANTIATE

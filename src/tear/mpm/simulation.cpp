@@ -34,18 +34,18 @@ nlohmann::json FrameStats::to_json() const {
           {"damaged_fraction", damaged_fraction},
           {"wall_s", wall_s}};
   if (solver_figures) {
-    j["cg_solves"] = cg_solves;
-    j["cg_iterations"] = cg_iterations;
-    j["cg_iterations_max"] = cg_iterations_max;
-    j["cg_unconverged"] = cg_unconverged;
-    j["residual"] = residual;
+    j["damage_solves"] = damage_solves;
+    j["damage_iterations"] = damage_iterations;
+    j["damage_iterations_max"] = damage_iterations_max;
+    j["damage_unconverged"] = damage_unconverged;
+    j["damage_change"] = damage_change;
   }
   return j;
 }
 
 namespace {
 
-const std::string kCheckpointMagic = "TEARCKP3";
+const std::string kCheckpointMagic = "TEARCKP4";
 
 template <int Dim>
 class MpmSimulation final : public Simulation {
@@ -59,6 +59,7 @@ class MpmSimulation final : public Simulation {
   double time() const override { return solver_.time(); }
   long total_steps() const override { return solver_.steps(); }
   double estimate_dt() const override { return solver_.estimate_dt(); }
+  DtLimits dt_limits() const override { return solver_.dt_limits(); }
   const PhaseTimes& phase_times() const override { return solver_.phase_times(); }
 
   double step(double dt_cap) override {
@@ -112,11 +113,11 @@ class MpmSimulation final : public Simulation {
     }
     DamageSolveStats& ds = solver_.damage_stats();
     s.solver_figures = solver_.scene().damage.solver == DamageSolver::Implicit;
-    s.cg_solves = ds.solves;
-    s.cg_iterations = ds.cg_iterations;
-    s.cg_iterations_max = ds.cg_iterations_max;
-    s.residual = ds.residual_max;
-    s.cg_unconverged = ds.unconverged;
+    s.damage_solves = ds.solves;
+    s.damage_iterations = ds.iterations;
+    s.damage_iterations_max = ds.iterations_max;
+    s.damage_change = ds.change_max;
+    s.damage_unconverged = ds.unconverged;
     ds = DamageSolveStats();
     s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     steps_since_stats_ = 0;
@@ -178,9 +179,9 @@ class MpmSimulation final : public Simulation {
     w.put<double>(dt_max_);
     const DamageSolveStats& ds = solver_.damage_stats();
     w.put<int64_t>(ds.solves);
-    w.put<int64_t>(ds.cg_iterations);
-    w.put<int32_t>(ds.cg_iterations_max);
-    w.put<double>(ds.residual_max);
+    w.put<int64_t>(ds.iterations);
+    w.put<int32_t>(ds.iterations_max);
+    w.put<double>(ds.change_max);
     w.put<int64_t>(ds.unconverged);
     w.put_vector(p.x);
     w.put_vector(p.v);
@@ -215,9 +216,9 @@ class MpmSimulation final : public Simulation {
     const double dt_min = r.get<double>(), dt_max = r.get<double>();
     DamageSolveStats ds;
     ds.solves = long(r.get<int64_t>());
-    ds.cg_iterations = long(r.get<int64_t>());
-    ds.cg_iterations_max = r.get<int32_t>();
-    ds.residual_max = r.get<double>();
+    ds.iterations = long(r.get<int64_t>());
+    ds.iterations_max = r.get<int32_t>();
+    ds.change_max = r.get<double>();
     ds.unconverged = long(r.get<int64_t>());
     Particles<Dim> p;
     std::vector<int> slots;

@@ -33,14 +33,27 @@ struct FrameStats {
   Vec3d angular_momentum = Vec3d::Zero();  // about the origin, including the APIC affine part
   double kinetic_energy = 0, elastic_energy = 0;
   double max_damage = 0, mean_damage = 0, damaged_fraction = 0;
-  // Implicit damage only (written when solver_figures): CG solves since the previous frame,
-  // their iterations summed and at most, the largest final relative residual.
+  // Implicit damage only (written when solver_figures): solves since the previous frame, their
+  // sweeps summed and at most, solves that stopped at damage.max_iterations, and the largest
+  // change of a particle's damage in a solve's last sweep.
   bool solver_figures = false;
-  long cg_solves = 0, cg_iterations = 0, cg_unconverged = 0;
-  int cg_iterations_max = 0;
-  double residual = 0;
+  long damage_solves = 0, damage_iterations = 0, damage_unconverged = 0;
+  int damage_iterations_max = 0;
+  double damage_change = 0;
   double wall_s = 0;     // wall time since the start of the run
   nlohmann::json to_json() const;
+};
+
+// The limits on one explicit step (seconds; infinity where there is none): the scene's
+// max_dt, the elastic wave speed (cfl dx / c), the particles' speed (cfl dx / max|v|) and the
+// explicit damage update (docs/materials.md "Time step"); `damage_cracking` is the damage
+// limit once cracks grow (not part of dt(): a forecast for `tear check`).
+struct DtLimits {
+  double max_dt = 0, wave = 0, velocity = 0, damage = 0;
+  double damage_cracking = 0;
+  double dt() const;
+  // "max_dt", "wave speed", "particle speed" or "explicit damage": the one that sets dt().
+  const char* limiting() const;
 };
 
 // Dimension-erased interface used by the driver and the CLI.
@@ -56,8 +69,9 @@ class Simulation {
   virtual void advance_frame() = 0;
   // Advance by exactly one step (no larger than `dt_cap`); returns the dt taken.
   virtual double step(double dt_cap) = 0;
-  // Stable time step estimate for the current state.
+  // Stable time step estimate for the current state, and what limits it.
   virtual double estimate_dt() const = 0;
+  virtual DtLimits dt_limits() const = 0;
   // Statistics of the current state; step figures are those since the last call.
   virtual FrameStats collect_stats() = 0;
   virtual const PhaseTimes& phase_times() const = 0;

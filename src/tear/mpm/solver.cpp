@@ -7,6 +7,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -53,17 +54,31 @@ void MpmSolver<Dim>::restore(Particles<Dim> particles, std::vector<int> slots_at
   steps_ = steps;
 }
 
+double DtLimits::dt() const { return std::min({max_dt, wave, velocity, damage}); }
+
+const char* DtLimits::limiting() const {
+  const double t = dt();
+  if (t == max_dt) return "max_dt";
+  if (t == wave) return "wave speed";
+  if (t == velocity) return "particle speed";
+  return "explicit damage";
+}
+
 template <int Dim>
-double MpmSolver<Dim>::estimate_dt() const {
+DtLimits MpmSolver<Dim>::dt_limits() const {
+  constexpr double kNone = std::numeric_limits<double>::infinity();
   const double dx = scene_.dx;
-  double dt = scene_.max_dt;
+  DtLimits l;
+  l.max_dt = scene_.max_dt;
   Real c = 0;
   for (const MaterialParams& m : mats_) c = std::max(c, wave_speed(m));
-  if (c > 0) dt = std::min(dt, scene_.cfl * dx / c);
+  l.wave = c > 0 ? scene_.cfl * dx / c : kNone;
   const Real vmax = std::sqrt(parallel_max<Real>(
       p_.size(), [&](size_t i) { return p_.v[i].squaredNorm(); }, Real(0)));
-  if (vmax > 0) dt = std::min(dt, scene_.cfl * dx / vmax);
-  return dt;
+  l.velocity = vmax > 0 ? scene_.cfl * dx / vmax : kNone;
+  l.damage = damage_dt_limit();
+  l.damage_cracking = damage_dt_limit(true);
+  return l;
 }
 
 template <int Dim>

@@ -17,10 +17,10 @@ namespace tear {
 // Implicit damage solves since the counters were last reset (stats.jsonl figures).
 struct DamageSolveStats {
   long solves = 0;
-  long cg_iterations = 0;      // summed over the solves
-  int cg_iterations_max = 0;   // of one solve
-  double residual_max = 0;     // largest final relative residual
-  long unconverged = 0;        // solves that hit damage.cg_max_iterations
+  long iterations = 0;      // sweeps, summed over the solves
+  int iterations_max = 0;   // sweeps of one solve
+  double change_max = 0;    // largest change of a particle's damage in a solve's last sweep
+  long unconverged = 0;     // solves that stopped at damage.max_iterations
 };
 
 template <int Dim>
@@ -31,8 +31,20 @@ class MpmSolver {
   // Uses the given particles instead (tests, resumed runs).
   MpmSolver(const Scene& scene, Particles<Dim> particles);
 
-  // min(max_dt, cfl dx / max|v_p|, cfl dx / wave speed) (ARCHITECTURE.md "One explicit step").
-  double estimate_dt() const;
+  // min(max_dt, cfl dx / max|v_p|, cfl dx / wave speed, explicit damage limit)
+  // (ARCHITECTURE.md "One explicit step"; docs/materials.md "Time step").
+  double estimate_dt() const { return dt_limits().dt(); }
+  DtLimits dt_limits() const;
+  // The explicit damage update's step limit, eta / (1 + min(D, kDriveCap) + 4 dim l0^2 / dx^2)
+  // over the damageable particles not yet fully cracked; with `cracking`, the limit once a
+  // crack grows (D = kDriveCap). Infinity for the implicit solver and without damage.
+  double damage_dt_limit(bool cracking = false) const;
+  // Driving forces above this count as this in the explicit step limit (the overshoot they
+  // could cause is below 1 / (1 + kDriveCap)).
+  static constexpr double kDriveCap = 99;
+  // Spectral radius of l0^2 L (the particles' damage Laplacian) per (2 l0 / dx)^2: 0.26-0.35
+  // measured on lattice and random samplings in 2D and 3D, rounded up.
+  static constexpr double kLaplacianRadius = 0.4;
   // One symplectic Euler step of size dt from time() to time() + dt.
   void step(double dt);
 
@@ -74,14 +86,11 @@ class MpmSolver {
   void damage_update(Real dt);
   // Driving force with history (EQUATIONS.md §1) for every damageable particle.
   void update_driving_force();
-  // Home blocks (index into grid_.home_blocks()) near particles whose damage (or, with
-  // `with_drive`, driving force) is non-zero: only there can this step change the field.
-  std::vector<char> active_damage_blocks(bool with_drive) const;
   // Explicit phase-field damage (supplement Alg. 3-5): damage to the grid with the cubic
   // B-spline, its Laplacian back, forward Euler update.
   void damage_explicit(Real dt);
-  // Implicit phase-field damage (supplement Alg. 6-10): backward Euler system on the grid
-  // (MLS weak form), Jacobi-PCG, FLIP or PIC back to the particles.
+  // Implicit phase-field damage: backward Euler of the same law for the particles' damage,
+  // solved by Jacobi sweeps (docs/materials.md "Damage solvers").
   void damage_implicit(Real dt);
   // g(d) of particle p: 1 for materials without damage.
   Real degradation_of(size_t p) const;
@@ -103,14 +112,7 @@ class MpmSolver {
   long steps_ = 0;
   PhaseTimes times_;
   DamageSolveStats damage_stats_;
-  // Implicit damage scratch: per-node sums, per-particle Laplacian coefficients, CG vectors.
-  struct ImplicitNodeSums {  // per node, together: one cache line per node in the scatter
-    Real w = 0, wd = 0;        // weight sum, weighted damage
-    Real a = 0, cd = 0;        // A, the D part of c
-    Real vw = 0, bd = 0;       // sum V w, diagonal of B
-  };
-  std::vector<ImplicitNodeSums> implicit_sums_;
-  std::vector<Real> laplace_coef_, rhs_, inv_diag_, solution_;
+  std::vector<Real> start_damage_;  // implicit damage: d^n of the step
   // Undegraded first Piola stress of the damageable particles, from this step's driving force
   // (piola_fresh_ until P2G has used it): P2G reuses it for the particles still undamaged.
   std::vector<Mat<Dim>> piola_;

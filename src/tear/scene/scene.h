@@ -33,11 +33,10 @@ enum class DamageSolver { None, Explicit, Implicit };
 // Scene-wide phase-field damage settings ("damage" section).
 struct DamageSolverSpec {
   DamageSolver solver = DamageSolver::None;
-  double l0 = 0;                       // length scale; the scene's null resolves to 0.5 dx
-  double zeta = 1;                     // slope of the driving force
-  Transfer transfer = Transfer::Flip;  // implicit damage back to particles: Flip or Pic only
-  double cg_tolerance = 1e-6;          // implicit: relative residual |c - K d| / |c| to reach
-  int cg_max_iterations = 500;         // implicit: CG gives up (and reports it) after this
+  double l0 = 0;               // length scale; the scene's null resolves to 0.5 dx
+  double zeta = 1;             // slope of the driving force
+  double tolerance = 1e-6;     // implicit: stop when no particle's damage changes by more
+  int max_iterations = 200;    // implicit: give up (and report it) after this many sweeps
 };
 
 // Per-material damage parameters ("materials.NAME.damage"); enabled = false when omitted/null.
@@ -46,7 +45,7 @@ struct DamageSpec {
   double sigma_c = 0;          // critical stress
   double eta = 0;              // mobility
   double residual = 0;         // stiffness left at d = 1, in [0, 1)
-  double alpha[2] = {0, 0};    // structural-tensor weights of a1, a2, in [-1, 0]
+  double alpha[2] = {0, 0};    // structural-tensor weights of a1, a2, in [-1, inf)
 };
 
 struct FiberSpec {

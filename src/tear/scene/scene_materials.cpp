@@ -1,6 +1,8 @@
 // The "materials" section (SCENE_FORMAT.md "materials.NAME.*").
 #include "tear/scene/scene_parts.h"
 
+#include <cmath>
+
 namespace tear::scene_detail {
 
 namespace {
@@ -37,9 +39,9 @@ json parse_damage_spec(const Reader& r, const json& m, const std::string& path, 
   const json* a = r.find(*j, "alpha");
   if (a) scalar_or_array(r, *a, key_path(p, "alpha"), 2, d->alpha);
   for (int i = 0; i < 2; ++i)
-    r.check(d->alpha[i] >= -1 && d->alpha[i] <= 0,
+    r.check(d->alpha[i] >= -1 && std::isfinite(d->alpha[i]),
             a && a->is_array() ? index_path(key_path(p, "alpha"), i) : key_path(p, "alpha"),
-            "must be in [-1, 0], got " + num_str(d->alpha[i]));
+            "must be a number >= -1, got " + num_str(d->alpha[i]));
   return {{"sigma_c", d->sigma_c},
           {"eta", d->eta},
           {"residual", d->residual},
