@@ -201,6 +201,29 @@ TEST(DrivingForce, TensionAlongTheFiberDoesNotDriveCracksAcrossItDoes) {
   EXPECT_NEAR(driving_phi<2>(-s * a2 * a2.transpose(), A, sigma_c), 0, 1e-20);
 }
 
+// alpha > 0 (supplement: alpha in [-1, inf)) strengthens the pull along a fiber: tension s
+// along a1 gives Phi = ((1 + alpha) s / sigma_c)^2, across it still (s / sigma_c)^2, so such a
+// material cracks across its fibers first (crack_onset_stretch agrees).
+TEST(DrivingForce, PositiveAlphaStrengthensTensionAlongTheFiber) {
+  const double s = 3, sigma_c = 2;
+  const Mat<2> D = frame2(-20);
+  const Vec<2> a1 = D.col(0), a2 = D.col(1);
+  for (Real alpha1 : {0.5, 1.0, 4.0}) {
+    const Real alpha[2] = {alpha1, 0};
+    const Mat<2> A = structural_tensor<2>(Mat<2>::Identity(), D, alpha);
+    EXPECT_NEAR(driving_phi<2>(s * a1 * a1.transpose(), A, sigma_c),
+                std::pow((1 + alpha1) * s / sigma_c, 2), 1e-12);
+    EXPECT_NEAR(driving_phi<2>(s * a2 * a2.transpose(), A, sigma_c), std::pow(s / sigma_c, 2),
+                1e-12);
+    const MaterialParams m = make_material(Model::QrAniso, 100, 0.25, 2, 0, 0);
+    const Real along = crack_onset_stretch<2>(m, Mat<2>::Identity(), alpha, 10, Vec<2>::UnitX());
+    const Real across = crack_onset_stretch<2>(m, Mat<2>::Identity(), alpha, 10, Vec<2>::UnitY());
+    EXPECT_LT(along, across) << alpha1;
+    const Real none[2] = {0, 0};
+    EXPECT_LT(along, crack_onset_stretch<2>(m, Mat<2>::Identity(), none, 10, Vec<2>::UnitX()));
+  }
+}
+
 // Paper Fig. 11: uniaxial tension s along n, alpha1 = -1, fibers at angle theta to n:
 // Phi = (s / sigma_c)^2 sin^4(theta); isotropic: (s / sigma_c)^2 in every direction.
 TEST(DrivingForce, FourFiberDirectionsOfFigure11) {

@@ -1,6 +1,7 @@
 // cli/: the `tear` executable, a thin layer over driver/ (ARCHITECTURE.md "What a user does").
 #include "tear/driver/bench_suite.h"
 #include "tear/driver/convert.h"
+#include "tear/driver/crack_report.h"
 #include "tear/driver/mesh_frames.h"
 #include "tear/driver/render_frames.h"
 #include "tear/driver/run.h"
@@ -176,6 +177,20 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   mesh_cmd->add_flag("-q,--quiet", mesh.quiet, "No progress lines");
 
+  tear::CrackReportOptions cracks;
+  CLI::App* cracks_cmd = app.add_subcommand(
+      "cracks", "Crack figures of a run's frames in rest space: cracked share, direction, width");
+  cracks_cmd->add_option("dir", cracks.dir, "Output folder of tear run")->required();
+  cracks_cmd->add_option("--frames", cracks.frames,
+                         "Frames to measure: A:B, A:, :B or A (default: all)");
+  cracks_cmd->add_option("--threshold", cracks.threshold, "Cracked: damage above this")
+      ->capture_default_str();
+  cracks_cmd->add_option("--spacing", cracks.spacing,
+                         "Particle spacing (default: dx / ppc^(1/dim) from DIR/scene.json, else "
+                         "the median nearest-neighbour distance in frame 0)")
+      ->check(CLI::PositiveNumber);
+  cracks_cmd->add_flag("--json", cracks.json, "One JSON object per frame");
+
   long stress_evals = 10000000, particles = 475000;
   int steps = 20;
   std::vector<int> thread_counts{1, 2};
@@ -216,6 +231,7 @@ int main(int argc, char** argv) {
   }
   if (*convert_cmd) return tear::convert_run(convert);
   if (*mesh_cmd) return tear::mesh_frames(mesh);
+  if (*cracks_cmd) return tear::crack_report(cracks);
   if (*check_cmd) return tear::check_scene(check_path, check_overrides, std::cout);
   if (*info_cmd) {
     tear::print_info(std::cout);
