@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -103,6 +104,71 @@ TEST(HeldDamage, AOneParticleWideBandCracksAloneWithEverySolver) {
         EXPECT_EQ(r.cracked_outside, 0u) << label;
         EXPECT_GE(double(r.cracked), 0.95 * double(r.band)) << label;
       }
+}
+
+TEST(HeldDamage, ExplicitStepLimitFollowsTheDrivingForce) {
+  // dt <= eta / (1 + min(D, 99) + 4 dim l0^2 / dx^2) over damageable particles not fully
+  // cracked; at l0 = dx / 2 in 2D the diffusion part is 2. eta is small enough for the
+  // damage limit to set dt.
+  const double dx = 1.0 / 64, eta = 1e-4;
+  const Scene s = held_scene("explicit", eta, dx);
+  Particles<2> p = held_particles(s, false);
+  for (size_t i = 0; i < p.size(); ++i) p.F[i](0, 0) = Real(1.2);  // D = 5.6 everywhere
+  MpmSolver<2> sim(s, std::move(p));
+  EXPECT_NEAR(sim.damage_dt_limit(), eta / 3, 1e-15);       // no driving force yet
+  EXPECT_NEAR(sim.damage_dt_limit(true), eta / 102, 1e-15);  // while cracks grow
+  sim.damage_step(0);                                        // the driving force history
+  const double D = sim.particles().drive[0];
+  ASSERT_GT(D, 5);
+  EXPECT_NEAR(sim.damage_dt_limit(), eta / (3 + D), 1e-12);
+  const DtLimits l = sim.dt_limits();
+  EXPECT_EQ(l.damage, sim.damage_dt_limit());
+  EXPECT_EQ(sim.estimate_dt(), std::min({l.max_dt, l.wave, l.velocity, l.damage}));
+  EXPECT_STREQ(l.limiting(), "explicit damage");
+  // Fully cracked particles no longer limit it; a huge driving force counts as 99.
+  for (size_t i = 0; i < sim.particles().size(); ++i) sim.particles().drive[i] = Real(1e6);
+  EXPECT_NEAR(sim.damage_dt_limit(), eta / 102, 1e-15);
+  for (size_t i = 0; i < sim.particles().size(); ++i) sim.particles().damage[i] = 1;
+  EXPECT_NEAR(sim.damage_dt_limit(), eta / 3, 1e-15);
+  // The implicit solver has no limit.
+  EXPECT_TRUE(std::isinf(MpmSolver<2>(held_scene("implicit", eta, dx),
+                                      held_particles(s, false))
+                             .damage_dt_limit()));
+}
+
+TEST(HeldDamage, ExplicitDamageWithinItsLimitNeedsNoHandTunedStep) {
+  // A driving force that jumps to D ~ 180 (stretch 2) with eta = 1e-3: steps of the elastic
+  // limit alone would be k (1 + D) = 5 x too long and overshoot. Stepping by estimate_dt()
+  // follows the implicit solution at tiny steps.
+  const double dx = 1.0 / 64, eta = 1e-3, T = 0.004;
+  auto run = [&](const std::string& solver, double fixed_dt) {
+    Scene s = held_scene(solver, eta, dx);
+    Particles<2> p = held_particles(s, true);
+    for (size_t i = 0; i < p.size(); ++i)
+      p.F[i](0, 0) = Real(1 + std::exp(-std::pow((p.x[i][0] - 0.5) / 0.05, 2)));
+    MpmSolver<2> sim(s, std::move(p));
+    sim.damage_step(0);
+    while (sim.time() < T * (1 - 1e-12)) {
+      const double dt = std::min(fixed_dt > 0 ? fixed_dt : sim.estimate_dt(), T - sim.time());
+      sim.damage_step(dt);
+      sim.set_time(sim.time() + dt);
+    }
+    std::vector<Real> d(sim.particles().size());
+    for (size_t i = 0; i < d.size(); ++i) d[sim.particles().id[i]] = sim.particles().damage[i];
+    return d;
+  };
+  auto max_diff = [](const std::vector<Real>& a, const std::vector<Real>& b) {
+    double m = 0;
+    for (size_t i = 0; i < a.size(); ++i) m = std::max(m, std::abs(double(a[i] - b[i])));
+    return m;
+  };
+  const std::vector<Real> reference = run("implicit", T / 2000);
+  const double limited = max_diff(run("explicit", 0), reference);
+  const double unlimited = max_diff(run("explicit", 5 * eta / 180), reference);
+  std::printf("  explicit within its limit: %.3g from the reference; 5x beyond it: %.3g\n",
+              limited, unlimited);
+  EXPECT_LT(limited, 0.05);
+  EXPECT_GT(unlimited, 2 * limited);
 }
 
 // Paper Fig. 8 / Eq. 1-3: with d = 1 held on a crack (|x - x0| <= half_width) and no driving

@@ -15,6 +15,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -118,7 +119,9 @@ void MpmSolver<Dim>::damage_step(double dt) {
 template <int Dim>
 void MpmSolver<Dim>::damage_update(Real dt) {
   if (scene_.damage.solver == DamageSolver::None) return;
-  update_driving_force();
+  // Damage grows only where a driving force is or was (its history never decreases), so
+  // without one anywhere nothing can change.
+  if (!update_driving_force()) return;
   if (scene_.damage.solver == DamageSolver::Explicit)
     damage_explicit(dt);
   else
@@ -126,10 +129,11 @@ void MpmSolver<Dim>::damage_update(Real dt) {
 }
 
 template <int Dim>
-void MpmSolver<Dim>::update_driving_force() {
+bool MpmSolver<Dim>::update_driving_force() {
   const Real zeta = Real(scene_.damage.zeta);
   piola_.resize(p_.size());
   piola_fresh_ = true;
+  std::atomic<bool> any(false);
   tbb::parallel_for(size_t(0), p_.size(), [&](size_t p) {
     const DamageSpec& ds = damage_[p_.material[p]];
     if (!ds.enabled) return;
@@ -137,7 +141,9 @@ void MpmSolver<Dim>::update_driving_force() {
     const Real excess = particle_phi_excess<Dim>(mats_[p_.material[p]], p_.F[p], p_.fiber[p],
                                                  alpha, Real(ds.sigma_c), &piola_[p]);
     p_.drive[p] = std::max(p_.drive[p], zeta * excess);
+    if (p_.drive[p] > 0 || p_.damage[p] > 0) any.store(true, std::memory_order_relaxed);
   });
+  return any.load();
 }
 
 template <int Dim>
@@ -236,7 +242,7 @@ double MpmSolver<Dim>::damage_dt_limit(bool cracking) const {
 #define TEAR_DAMAGE_INSTANTIATE(D)                                 \
   template void MpmSolver<D>::damage_step(double);                 \
   template void MpmSolver<D>::damage_update(Real);                 \
-  template void MpmSolver<D>::update_driving_force();              \
+  template bool MpmSolver<D>::update_driving_force();              \
   template void MpmSolver<D>::damage_explicit(Real);               \
   template void MpmSolver<D>::damage_implicit(Real);               \
   template double MpmSolver<D>::damage_dt_limit(bool) const;

@@ -84,8 +84,9 @@ class MpmSolver {
   // Driving force with history (EQUATIONS.md §1), then the scene's damage solver; nothing
   // when damage.solver is none. Needs the binning of the current positions.
   void damage_update(Real dt);
-  // Driving force with history (EQUATIONS.md §1) for every damageable particle.
-  void update_driving_force();
+  // Driving force with history (EQUATIONS.md §1) for every damageable particle; whether any
+  // particle has a driving force or damage (else the damage update has nothing to do).
+  bool update_driving_force();
   // Explicit phase-field damage (supplement Alg. 3-5): damage to the grid with the cubic
   // B-spline, its Laplacian back, forward Euler update.
   void damage_explicit(Real dt);
