@@ -58,19 +58,18 @@ nlohmann::json with(nlohmann::json doc, const std::string& solver, double eta) {
   return doc;
 }
 
-// Crack figures of the strip at each of `frames` (ascending), measured in rest space; with
+// Crack figures of a scene at each of `frames` (ascending), measured in rest space; with
 // `cracked`, the rest positions of the cracked particles at the last frame. Checks after every
 // step that damage (tracked by id) never decreases and stays in [0, 1].
-std::vector<CrackFigures> tear_strip(const nlohmann::json& doc, std::vector<int> frames,
-                                     const std::string& label,
-                                     std::vector<Vec3d>* cracked = nullptr) {
-  const Scene scene = parse_scene(doc, "strip.json");
-  MpmSolver<2> sim(scene);
-  const Particles<2>& p = sim.particles();
+template <int Dim>
+std::vector<CrackFigures> tear(const Scene& scene, std::vector<int> frames,
+                               const std::string& label, std::vector<Vec3d>* cracked = nullptr) {
+  MpmSolver<Dim> sim(scene);
+  const Particles<Dim>& p = sim.particles();
   const size_t n = p.size();
-  std::vector<Vec3d> rest(n);
+  std::vector<Vec3d> rest(n, Vec3d::Zero());
   std::vector<double> damage(n, 0);
-  for (size_t i = 0; i < n; ++i) rest[p.id[i]] = Vec3d(p.x[i][0], p.x[i][1], 0);
+  for (size_t i = 0; i < n; ++i) rest[p.id[i]].template head<Dim>() = p.x[i].template cast<double>();
   const double spacing = particle_spacing(scene);
   std::vector<CrackFigures> out;
   bool monotone = true;
@@ -84,10 +83,12 @@ std::vector<CrackFigures> tear_strip(const nlohmann::json& doc, std::vector<int>
         damage[p.id[i]] = d;
       }
     }
-    out.push_back(measure_cracks(2, rest, damage, spacing));
+    out.push_back(measure_cracks(Dim, rest, damage, spacing));
     const CrackFigures& c = out.back();
-    std::printf("  %s, frame %d: cracked %.3f, crack at %.1f degrees, width %.1f spacings\n",
-                label.c_str(), frame, c.fraction, c.angle_degrees, c.width_spacings);
+    std::printf("  %s, frame %d: cracked %.3f, crack at %.1f degrees, normal (%.2f, %.2f, %.2f), "
+                "width %.2f spacings\n",
+                label.c_str(), frame, c.fraction, c.angle_degrees, c.normal[0], c.normal[1],
+                c.normal[2], c.width_spacings);
   }
   EXPECT_TRUE(monotone) << label << ": damage decreased or left [0, 1]";
   if (cracked) {
@@ -96,6 +97,12 @@ std::vector<CrackFigures> tear_strip(const nlohmann::json& doc, std::vector<int>
       if (damage[i] > 0.5) cracked->push_back(rest[i]);
   }
   return out;
+}
+
+std::vector<CrackFigures> tear_strip(const nlohmann::json& doc, std::vector<int> frames,
+                                     const std::string& label,
+                                     std::vector<Vec3d>* cracked = nullptr) {
+  return tear<2>(parse_scene(doc, "strip.json"), frames, label, cracked);
 }
 
 // Angles of undirected lines: the difference modulo 180 degrees.
@@ -211,25 +218,9 @@ TEST(TubeTear3D, BandsFollowTheFibersAndStaySharpAfterTheTubeComesApart) {
   ASSERT_TRUE(in) << "examples/tube_tear_3d.json";
   nlohmann::json doc = nlohmann::json::parse(in);
   doc["objects"][0].erase("sampling");
-  const Scene scene = parse_scene(doc, "tube_tear_3d.json");
-  MpmSolver<3> sim(scene);
-  const Particles<3>& p = sim.particles();
-  const size_t n = p.size();
-  std::vector<Vec3d> rest(n);
-  std::vector<double> damage(n, 0);
-  for (size_t i = 0; i < n; ++i) rest[p.id[i]] = p.x[i].template cast<double>();
-  const double spacing = particle_spacing(scene);
-  CrackFigures c[2];
+  const std::vector<CrackFigures> c =
+      tear<3>(parse_scene(doc, "tube_tear_3d.json"), {32, 38}, "tube");
   const int frames[2] = {32, 38};
-  for (int k = 0; k < 2; ++k) {
-    const double end = frames[k] * scene.frame_dt;
-    while (sim.time() < end * (1 - 1e-12)) sim.step(std::min(sim.estimate_dt(), end - sim.time()));
-    for (size_t i = 0; i < n; ++i) damage[p.id[i]] = p.damage[i];
-    c[k] = measure_cracks(3, rest, damage, spacing);
-    std::printf("  frame %d: cracked %.3f, normal (%.2f, %.2f, %.2f), width %.2f spacings\n",
-                frames[k], c[k].fraction, c[k].normal[0], c[k].normal[1], c[k].normal[2],
-                c[k].width_spacings);
-  }
   ASSERT_GT(c[0].fraction, 0.05);
   const Vec3d fiber = Vec3d(1, 1, 0).normalized();
   for (int k = 0; k < 2; ++k) {
