@@ -232,6 +232,12 @@ TEST(SceneOverrides, SetValuesAndArrayElements) {
   // A new key under an existing object is set, then validated like any other key.
   s = load_scene(file, {"time.cfl=0.5"});
   EXPECT_DOUBLE_EQ(s.cfl, 0.5);
+  // Sections the scene may leave out can be named although the file has none of them.
+  ASSERT_FALSE(test::minimal_scene_2d().contains("output"));
+  s = load_scene(file, {"output.every=3", "render.color=velocity", "damage.zeta=2"});
+  EXPECT_EQ(s.output_every, 3);
+  EXPECT_EQ(s.render.color, "velocity");
+  EXPECT_DOUBLE_EQ(s.damage.zeta, 2);
 }
 
 std::string override_error(const std::vector<std::string>& ov) {
@@ -253,6 +259,11 @@ TEST(SceneOverrides, BadOverridesFailClearly) {
       override_error({"objects.3.ppc=1"}).find("\"objects.3\" does not exist (array of 1 entry)"),
       std::string::npos);
   EXPECT_NE(override_error({"objects.x.ppc=1"}).find("\"objects.x\" does not exist"),
+            std::string::npos);
+  // Only the optional sections are made up; any other missing object is an error.
+  EXPECT_NE(override_error({"outptu.every=3"}).find("\"outptu\" does not exist"),
+            std::string::npos);
+  EXPECT_NE(override_error({"render.camera.fov_deg=30"}).find("\"render.camera\" does not exist"),
             std::string::npos);
   EXPECT_NE(override_error({"dim.x=1"}).find("\"dim\" is an integer (2), not an object or array"),
             std::string::npos);

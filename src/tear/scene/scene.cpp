@@ -202,7 +202,11 @@ json parse_render(const Reader& r, const json& doc, Scene* s) {
           {"height", rs.height}, {"samples", rs.samples}, {"surface", rs.surface}};
 }
 
-// Sets doc at the dotted `path` to `value`; the parent must exist.
+// Top-level sections a scene may leave out (every key has a default): an override may name
+// one that the file does not have.
+const std::vector<std::string> kOptionalSections = {"damage", "output", "render"};
+
+// Sets doc at the dotted `path` to `value`; the parent must exist, or be an optional section.
 void apply_override(const std::string& file, json* doc, const std::string& ov) {
   size_t eq = ov.find('=');
   if (eq == std::string::npos || eq == 0)
@@ -224,6 +228,9 @@ void apply_override(const std::string& file, json* doc, const std::string& ov) {
     if (part.empty()) bad("empty path component");
     bool last = i + 1 == parts.size();
     if (node->is_object()) {
+      if (i == 0 && !last && !node->contains(part) &&
+          std::count(kOptionalSections.begin(), kOptionalSections.end(), part))
+        (*node)[part] = json::object();
       if (!last && !node->contains(part)) {
         std::vector<std::string> keys;
         for (auto it = node->begin(); it != node->end(); ++it) keys.push_back(it.key());
