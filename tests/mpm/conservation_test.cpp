@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <cmath>
+#include <cstdio>
+
 namespace tear {
 namespace {
 
@@ -67,6 +70,44 @@ TEST(Flip, ConservesLinearMomentum) {
   const Vec3d P0 = sim.momentum();
   for (int i = 0; i < 50; ++i) sim.step(sim.estimate_dt());
   EXPECT_LT((sim.momentum() - P0).norm() / sim.total_mass(), 1e-12);
+}
+
+// A block whose particles alternate up and down (a pattern the grid cannot hold, so only FLIP
+// keeps it and the PIC share of each step removes it): the share of kinetic energy left after
+// `t_end` with steps of `dt`.
+double flip_noise_left(double dt, double ratio, double relaxation_time, double t_end) {
+  Scene s = basic_scene(2, 0.05, Vec3d::Zero(), Vec3d::Constant(2.0), Model::FixedCorotated, 1,
+                        0.3, 1);
+  s.transfer = Transfer::Flip;
+  s.flip_ratio = ratio;
+  s.flip_relaxation_time = relaxation_time;
+  const Real h = Real(s.dx) / 2;
+  auto vel = [&](const Vec<2>& x) {
+    const long k = std::lround(std::floor(x[0] / h) + std::floor(x[1] / h));
+    return Vec<2>(0, k % 2 ? Real(0.3) : Real(-0.3));
+  };
+  MpmSolver<2> sim(s, lattice_block<2>(s, Vec<2>(0.7, 0.7), Vec<2>(1.2, 1.2), 2, vel));
+  const double e0 = sim.kinetic_energy();
+  while (sim.time() < t_end * (1 - 1e-9)) sim.step(std::min(dt, t_end - sim.time()));
+  return sim.kinetic_energy() / e0;
+}
+
+TEST(Flip, RelaxationTimeMakesTheBlendIndependentOfTheStep) {
+  // flip_ratio acts per step: halving dt doubles the number of blends (0.95^20 vs 0.95^40 of
+  // the velocity after 0.02 s).
+  const double per_step[] = {flip_noise_left(1e-3, 0.95, 0, 0.02),
+                             flip_noise_left(5e-4, 0.95, 0, 0.02)};
+  EXPECT_NEAR(per_step[0], std::pow(0.95, 40), 0.1 * std::pow(0.95, 40));
+  EXPECT_GT(per_step[0], 4 * per_step[1]);
+  // A relaxation time is a rate: the pattern's energy decays as exp(-2 t / tau) for any dt.
+  const double tau = 0.01, expected = std::exp(-2 * 0.02 / tau);
+  for (double dt : {1e-3, 5e-4, 2.5e-4}) {
+    const double left = flip_noise_left(dt, 0.95, tau, 0.02);
+    std::printf("  dt %.1e: energy left %.4f (exp(-2 t / tau) = %.4f); per step: %.4f, %.4f\n",
+                dt, left, expected, per_step[0], per_step[1]);
+    EXPECT_NEAR(left, expected, 0.1 * expected) << "dt " << dt;
+    EXPECT_NEAR(left, flip_noise_left(1e-4, 0.95, tau, 0.02), 0.03 * expected) << "dt " << dt;
+  }
 }
 
 TEST(P2G, GridMassEqualsParticleMass) {

@@ -238,6 +238,12 @@ TEST(SceneOverrides, SetValuesAndArrayElements) {
   EXPECT_EQ(s.output_every, 3);
   EXPECT_EQ(s.render.color, "velocity");
   EXPECT_DOUBLE_EQ(s.damage.zeta, 2);
+  // FLIP's blend as a relaxation time: unset (null) by default, stored when given.
+  EXPECT_EQ(s.flip_relaxation_time, 0);
+  EXPECT_TRUE(s.resolved["flip_relaxation_time"].is_null());
+  s = load_scene(file, {"transfer=flip", "flip_relaxation_time=0.01"});
+  EXPECT_DOUBLE_EQ(s.flip_relaxation_time, 0.01);
+  EXPECT_EQ(s.resolved["flip_relaxation_time"], 0.01);
 }
 
 std::string override_error(const std::vector<std::string>& ov) {
@@ -259,6 +265,9 @@ TEST(SceneOverrides, BadOverridesFailClearly) {
       override_error({"objects.3.ppc=1"}).find("\"objects.3\" does not exist (array of 1 entry)"),
       std::string::npos);
   EXPECT_NE(override_error({"objects.x.ppc=1"}).find("\"objects.x\" does not exist"),
+            std::string::npos);
+  EXPECT_NE(override_error({"flip_relaxation_time=0"})
+                .find("flip_relaxation_time: must be > 0, got 0"),
             std::string::npos);
   // Only the optional sections are made up; any other missing object is an error.
   EXPECT_NE(override_error({"outptu.every=3"}).find("\"outptu\" does not exist"),

@@ -286,7 +286,7 @@ Scene parse_scene(const json& doc, const std::string& file) {
   if (!doc.is_object()) r.fail("(root)", "must be an object, got " + type_desc(doc));
   r.object(doc, "",
            {"name", "dim", "seed", "grid", "time", "gravity", "transfer", "flip_ratio",
-            "integrator", "damage", "materials", "objects", "boundaries", "output", "render"});
+            "flip_relaxation_time", "integrator", "damage", "materials", "objects", "boundaries", "output", "render"});
   long long dim = r.integer(doc, "", "dim");
   r.check(dim == 2 || dim == 3, "dim", "must be 2 or 3, got " + std::to_string(dim));
   s.dim = r.dim = int(dim);
@@ -313,6 +313,13 @@ Scene parse_scene(const json& doc, const std::string& file) {
   r.check(s.flip_ratio >= 0 && s.flip_ratio <= 1, "flip_ratio",
           "must be in [0, 1], got " + num_str(s.flip_ratio));
   out["flip_ratio"] = s.flip_ratio;
+  // The blend as a rate, which does not depend on the step: replaces flip_ratio when set.
+  out["flip_relaxation_time"] = nullptr;
+  if (r.find(doc, "flip_relaxation_time")) {
+    s.flip_relaxation_time = r.number(doc, "", "flip_relaxation_time");
+    r.positive(s.flip_relaxation_time, "flip_relaxation_time");
+    out["flip_relaxation_time"] = s.flip_relaxation_time;
+  }
   if (r.choice(doc, "", "integrator", {"explicit", "implicit"}, 0) == 1)
     r.fail("integrator", "\"implicit\": not implemented yet");
   out["integrator"] = "explicit";

@@ -117,6 +117,9 @@ struct Scene {
   Vec3d gravity = Vec3d::Zero();
   Transfer transfer = Transfer::Apic;
   double flip_ratio = 0.95;
+  // > 0: FLIP's per-step ratio is exp(-dt / flip_relaxation_time) instead of flip_ratio, so
+  // particle velocities relax to the grid's at a rate that does not depend on the step.
+  double flip_relaxation_time = 0;
   DamageSolverSpec damage;
   std::vector<MaterialSpec> materials;
   std::vector<ObjectSpec> objects;
