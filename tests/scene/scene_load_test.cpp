@@ -266,7 +266,11 @@ TEST(SceneOverrides, BadOverridesFailClearly) {
       std::string::npos);
   EXPECT_NE(override_error({"objects.x.ppc=1"}).find("\"objects.x\" does not exist"),
             std::string::npos);
-  EXPECT_NE(override_error({"flip_relaxation_time=0"})
+  EXPECT_NE(override_error({"flip_relaxation_time=0.01"})
+                .find("flip_relaxation_time: is FLIP's blend: set \"transfer\": \"flip\" (it is "
+                      "\"apic\")"),
+            std::string::npos);
+  EXPECT_NE(override_error({"transfer=flip", "flip_relaxation_time=0"})
                 .find("flip_relaxation_time: must be > 0, got 0"),
             std::string::npos);
   // Only the optional sections are made up; any other missing object is an error.

@@ -318,6 +318,9 @@ Scene parse_scene(const json& doc, const std::string& file) {
   if (r.find(doc, "flip_relaxation_time")) {
     s.flip_relaxation_time = r.number(doc, "", "flip_relaxation_time");
     r.positive(s.flip_relaxation_time, "flip_relaxation_time");
+    r.check(s.transfer == Transfer::Flip, "flip_relaxation_time",
+            "is FLIP's blend: set \"transfer\": \"flip\" (it is \"" +
+                std::string(transfers[int(s.transfer)]) + "\")");
     out["flip_relaxation_time"] = s.flip_relaxation_time;
   }
   if (r.choice(doc, "", "integrator", {"explicit", "implicit"}, 0) == 1)
