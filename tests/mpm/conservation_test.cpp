@@ -76,8 +76,8 @@ TEST(Flip, ConservesLinearMomentum) {
 // keeps it and the PIC share of each step removes it): the share of kinetic energy left after
 // `t_end` with steps of `dt`.
 double flip_noise_left(double dt, double ratio, double relaxation_time, double t_end) {
-  Scene s = basic_scene(2, 0.05, Vec3d::Zero(), Vec3d::Constant(2.0), Model::FixedCorotated, 1,
-                        0.3, 1);
+  Scene s =
+      basic_scene(2, 0.05, Vec3d::Zero(), Vec3d::Constant(2.0), Model::FixedCorotated, 1, 0.3, 1);
   s.transfer = Transfer::Flip;
   s.flip_ratio = ratio;
   s.flip_relaxation_time = relaxation_time;
@@ -103,8 +103,8 @@ TEST(Flip, RelaxationTimeMakesTheBlendIndependentOfTheStep) {
   const double tau = 0.01, expected = std::exp(-2 * 0.02 / tau);
   for (double dt : {1e-3, 5e-4, 2.5e-4}) {
     const double left = flip_noise_left(dt, 0.95, tau, 0.02);
-    std::printf("  dt %.1e: energy left %.4f (exp(-2 t / tau) = %.4f); per step: %.4f, %.4f\n",
-                dt, left, expected, per_step[0], per_step[1]);
+    std::printf("  dt %.1e: energy left %.4f (exp(-2 t / tau) = %.4f); per step: %.4f, %.4f\n", dt,
+                left, expected, per_step[0], per_step[1]);
     EXPECT_NEAR(left, expected, 0.1 * expected) << "dt " << dt;
     EXPECT_NEAR(left, flip_noise_left(1e-4, 0.95, tau, 0.02), 0.03 * expected) << "dt " << dt;
   }

@@ -69,7 +69,8 @@ std::vector<CrackFigures> tear(const Scene& scene, std::vector<int> frames,
   const size_t n = p.size();
   std::vector<Vec3d> rest(n, Vec3d::Zero());
   std::vector<double> damage(n, 0);
-  for (size_t i = 0; i < n; ++i) rest[p.id[i]].template head<Dim>() = p.x[i].template cast<double>();
+  for (size_t i = 0; i < n; ++i)
+    rest[p.id[i]].template head<Dim>() = p.x[i].template cast<double>();
   const double spacing = particle_spacing(scene);
   std::vector<CrackFigures> out;
   bool monotone = true;
@@ -85,10 +86,11 @@ std::vector<CrackFigures> tear(const Scene& scene, std::vector<int> frames,
     }
     out.push_back(measure_cracks(Dim, rest, damage, spacing));
     const CrackFigures& c = out.back();
-    std::printf("  %s, frame %d: cracked %.3f, crack at %.1f degrees, normal (%.2f, %.2f, %.2f), "
-                "width %.2f spacings\n",
-                label.c_str(), frame, c.fraction, c.angle_degrees, c.normal[0], c.normal[1],
-                c.normal[2], c.width_spacings);
+    std::printf(
+        "  %s, frame %d: cracked %.3f, crack at %.1f degrees, normal (%.2f, %.2f, %.2f), "
+        "width %.2f spacings\n",
+        label.c_str(), frame, c.fraction, c.angle_degrees, c.normal[0], c.normal[1], c.normal[2],
+        c.width_spacings);
   }
   EXPECT_TRUE(monotone) << label << ": damage decreased or left [0, 1]";
   if (cracked) {
@@ -241,9 +243,9 @@ TEST(TubeTear3D, BandsFollowTheFibersAndStaySharpAfterTheTubeComesApart) {
   ASSERT_TRUE(in) << "examples/tube_tear_3d.json";
   nlohmann::json doc = nlohmann::json::parse(in);
   doc["objects"][0].erase("sampling");
+  const std::vector<int> frames = {32, 38};
   const std::vector<CrackFigures> c =
-      tear<3>(parse_scene(doc, "tube_tear_3d.json"), {32, 38}, "tube");
-  const int frames[2] = {32, 38};
+      tear<3>(parse_scene(doc, "tube_tear_3d.json"), frames, "tube");
   ASSERT_GT(c[0].fraction, 0.05);
   const Vec3d fiber = Vec3d(1, 1, 0).normalized();
   for (int k = 0; k < 2; ++k) {

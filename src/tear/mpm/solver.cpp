@@ -175,9 +175,9 @@ template <int Dim>
 void MpmSolver<Dim>::g2p(Real dt) {
   const Real inv_d = BSpline1D<kOrder>::kInvD / Real(scene_.dx * scene_.dx);
   const bool flip = scene_.transfer == Transfer::Flip;
-  const Real ratio = Real(scene_.flip_relaxation_time > 0
-                              ? std::exp(-double(dt) / scene_.flip_relaxation_time)
-                              : scene_.flip_ratio);
+  const Real ratio =
+      Real(scene_.flip_relaxation_time > 0 ? std::exp(-double(dt) / scene_.flip_relaxation_time)
+                                           : scene_.flip_ratio);
   tbb::parallel_for(size_t(0), p_.size(), [&](size_t p) {
     Vec<Dim> v = Vec<Dim>::Zero(), v_old = Vec<Dim>::Zero();
     Mat<Dim> B = Mat<Dim>::Zero();

@@ -228,13 +228,14 @@ void apply_override(const std::string& file, json* doc, const std::string& ov) {
     if (part.empty()) bad("empty path component");
     bool last = i + 1 == parts.size();
     if (node->is_object()) {
-      if (i == 0 && !last && !node->contains(part) &&
-          std::count(kOptionalSections.begin(), kOptionalSections.end(), part))
-        (*node)[part] = json::object();
       if (!last && !node->contains(part)) {
-        std::vector<std::string> keys;
-        for (auto it = node->begin(); it != node->end(); ++it) keys.push_back(it.key());
-        bad("\"" + key_path(walked, part) + "\" does not exist" + did_you_mean(part, keys));
+        if (i == 0 && std::count(kOptionalSections.begin(), kOptionalSections.end(), part)) {
+          (*node)[part] = json::object();
+        } else {
+          std::vector<std::string> keys;
+          for (auto it = node->begin(); it != node->end(); ++it) keys.push_back(it.key());
+          bad("\"" + key_path(walked, part) + "\" does not exist" + did_you_mean(part, keys));
+        }
       }
       node = &(*node)[part];
     } else if (node->is_array()) {
@@ -286,7 +287,8 @@ Scene parse_scene(const json& doc, const std::string& file) {
   if (!doc.is_object()) r.fail("(root)", "must be an object, got " + type_desc(doc));
   r.object(doc, "",
            {"name", "dim", "seed", "grid", "time", "gravity", "transfer", "flip_ratio",
-            "flip_relaxation_time", "integrator", "damage", "materials", "objects", "boundaries", "output", "render"});
+            "flip_relaxation_time", "integrator", "damage", "materials", "objects", "boundaries",
+            "output", "render"});
   long long dim = r.integer(doc, "", "dim");
   r.check(dim == 2 || dim == 3, "dim", "must be 2 or 3, got " + std::to_string(dim));
   s.dim = r.dim = int(dim);
