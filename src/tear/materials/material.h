@@ -1,13 +1,15 @@
-// materials/: constitutive models as pure functions of F and the rest fiber frame D.
-// Owns energy density, first Piola-Kirchhoff stress and parameter mapping; never sees the grid.
+// materials/: constitutive models as pure functions of F and the rest fiber frame D, one file
+// each. Owns energy, stress P, its differential dP and parameter mapping; knows no grid.
 #pragma once
-
-#include "tear/math/types.h"
 
 #include <string>
 
+#include "tear/math/types.h"
+
 namespace tear {
 
+// One value per model in registry.h's `Models` list, in the same order (checked there). Each
+// model is one file (qr_aniso.h, fixed_corotated.h, neo_hookean.h, stvk_hencky.h).
 enum class Model { QrAniso, FixedCorotated, NeoHookean, StvkHencky };
 
 // Parameters of one material, already mapped from the user's (E, nu, fiber_scale).
@@ -27,12 +29,14 @@ struct MaterialParams {
 Real lame_mu(Real E, Real nu);
 Real lame_lambda(Real E, Real nu);
 
+// The Lame parameters of (E, nu), then the model's own mapping (its `map_parameters`).
 MaterialParams make_material(Model model, Real E, Real nu, Real rho, Real fiber_scale1 = 0,
                              Real fiber_scale2 = 0);
 
 // P-wave speed sqrt((lambda_Lame + 2 mu + max(kx, ky)) / rho): the elastic time-step limit.
 Real wave_speed(const MaterialParams& m);
 
+// The registered name ("qr_aniso", ...), "?" for a value outside the enum.
 const char* model_name(Model m);
 bool parse_model(const std::string& name, Model* out);
 
@@ -46,10 +50,18 @@ Real energy_density(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& 
 template <int Dim>
 Mat<Dim> first_piola(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D, Real g = 1);
 
+// Stress differential dP = dP/dF : dF (the directional derivative of first_piola along dF,
+// at fixed D and g), for implicit integration. Analytic where the model's traits say so
+// (registry.h, kAnalyticDifferential), else central differences of P (helpers.h).
+template <int Dim>
+Mat<Dim> stress_differential(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D,
+                             const Mat<Dim>& dF, Real g = 1);
+
 // qr_aniso: first_piola(m, F, D, g) from the undegraded first_piola(m, F, D) = P, without the
 // QR: g changes only mu and lambda, and the terms they multiply are, for an orthonormal
 // right-handed D and det F > 0 (Q cof R D^T = cof(F D) D^T = cof F),
 //   P_g = P + (g - 1) mu (F - cof F) + [J >= 1] (g - 1) lambda (J - 1) cof F.
+// Defined in qr_aniso.cpp.
 template <int Dim>
 Mat<Dim> degrade_qr_stress(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& P, Real g);
 

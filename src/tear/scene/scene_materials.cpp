@@ -1,4 +1,5 @@
 // The "materials" section (SCENE_FORMAT.md "materials.NAME.*").
+#include "tear/materials/registry.h"
 #include "tear/scene/scene_parts.h"
 
 #include <cmath>
@@ -20,6 +21,13 @@ void scalar_or_array(const Reader& r, const json& v, const std::string& path, in
                      (n == 1 ? std::string("1 number") : "1 to " + std::to_string(n) + " numbers") +
                      ", got " + (v.is_array() ? entries(v.size()) : type_desc(v)));
   }
+}
+
+// "only qr_aniso has" / "only a, b have": the registered models with `trait`, for errors.
+std::string only_models(bool ModelTraits::*trait, const char* verb_one, const char* verb_many) {
+  int count = 0;
+  for (const ModelTraits& t : kModelTraits) count += t.*trait ? 1 : 0;
+  return "only " + model_names(trait) + " " + (count == 1 ? verb_one : verb_many);
 }
 
 json parse_damage_spec(const Reader& r, const json& m, const std::string& path, DamageSpec* d) {
@@ -59,9 +67,8 @@ MaterialSpec parse_material(const Reader& r, const std::string& name, const json
   std::string model_str = r.string(m, path, "model");
   Model model;
   if (!parse_model(model_str, &model))
-    r.fail(key_path(path, "model"), "unknown model \"" + model_str +
-                                        "\" (expected one of: qr_aniso, fixed_corotated, "
-                                        "neo_hookean, stvk_hencky)");
+    r.fail(key_path(path, "model"),
+           "unknown model \"" + model_str + "\" (expected one of: " + model_names() + ")");
   double E = r.number(m, path, "E");
   r.positive(E, key_path(path, "E"));
   double nu = r.number(m, path, "nu");
@@ -85,15 +92,19 @@ MaterialSpec parse_material(const Reader& r, const std::string& name, const json
       r.check(fs[1] == 0, index_path(fp, 1),
               "must be 0 in 2D (only a1 has a fiber stiffness), got " + num_str(fs[1]));
   }
-  // Only qr_aniso has fiber terms and a degradable energy; refuse rather than ignore.
-  if (model != Model::QrAniso) {
+  // Fiber terms and a degradable energy only where the model's traits (materials/registry.h)
+  // say so; refuse rather than ignore.
+  const ModelTraits& traits = model_traits(model);
+  if (!traits.has_fiber_stiffness)
     r.check(fs[0] == 0 && fs[1] == 0, key_path(path, "fiber_scale"),
-            "must be 0 for the isotropic model \"" + model_str +
-                "\" (only qr_aniso has fiber stiffness)");
+            "must be 0 for the isotropic model \"" + model_str + "\" (" +
+                only_models(&ModelTraits::has_fiber_stiffness, "has", "have") +
+                " fiber stiffness)");
+  if (!traits.degraded_by_damage)
     r.check(!r.find(m, "damage"), key_path(path, "damage"),
-            "not implemented yet for model \"" + model_str +
-                "\" (only qr_aniso is degraded by damage)");
-  }
+            "not implemented yet for model \"" + model_str + "\" (" +
+                only_models(&ModelTraits::degraded_by_damage, "is", "are") +
+                " degraded by damage)");
   spec.fiber_scale[0] = Real(fs[0]);
   spec.fiber_scale[1] = Real(fs[1]);
   spec.params = make_material(model, Real(E), Real(nu), Real(rho), Real(fs[0]), Real(fs[1]));

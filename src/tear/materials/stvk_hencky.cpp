@@ -1,0 +1,55 @@
+#include "tear/materials/stvk_hencky.h"
+
+#include "tear/materials/helpers.h"
+#include "tear/math/svd.h"
+
+namespace tear {
+
+template <int Dim>
+Real StvkHencky::energy(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>&, Real) {
+  Mat<Dim> U, V;
+  Vec<Dim> sigma;
+  signed_svd<Dim>(F, &U, &sigma, &V);
+  Real sum = 0, trace = 0;
+  for (int i = 0; i < Dim; ++i) {
+    const Real l = safe_log(sigma[i]);
+    sum += l * l;
+    trace += l;
+  }
+  return m.mu * sum + m.lambda / 2 * trace * trace;
+}
+
+template <int Dim>
+Mat<Dim> StvkHencky::first_piola(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>&,
+                                 Real) {
+  Mat<Dim> U, V;
+  Vec<Dim> sigma;
+  signed_svd<Dim>(F, &U, &sigma, &V);
+  Vec<Dim> l;
+  for (int i = 0; i < Dim; ++i) l[i] = safe_log(sigma[i]);
+  const Real trace = l.sum();
+  Vec<Dim> dpsi;
+  for (int i = 0; i < Dim; ++i)
+    dpsi[i] = (2 * m.mu * l[i] + m.lambda * trace) * safe_log_slope(sigma[i]);
+  return U * dpsi.asDiagonal() * V.transpose();
+}
+
+template <int Dim>
+Mat<Dim> StvkHencky::stress_differential(const MaterialParams& m, const Mat<Dim>& F,
+                                         const Mat<Dim>& D, const Mat<Dim>& dF, Real g) {
+  const auto stress = [&](const Mat<Dim>& G) { return first_piola<Dim>(m, G, D, g); };
+  return numeric_stress_differential<Dim>(stress, F, dF);
+}
+
+template Real StvkHencky::energy<2>(const MaterialParams&, const Mat<2>&, const Mat<2>&, Real);
+template Real StvkHencky::energy<3>(const MaterialParams&, const Mat<3>&, const Mat<3>&, Real);
+template Mat<2> StvkHencky::first_piola<2>(const MaterialParams&, const Mat<2>&, const Mat<2>&,
+                                           Real);
+template Mat<3> StvkHencky::first_piola<3>(const MaterialParams&, const Mat<3>&, const Mat<3>&,
+                                           Real);
+template Mat<2> StvkHencky::stress_differential<2>(const MaterialParams&, const Mat<2>&,
+                                                   const Mat<2>&, const Mat<2>&, Real);
+template Mat<3> StvkHencky::stress_differential<3>(const MaterialParams&, const Mat<3>&,
+                                                   const Mat<3>&, const Mat<3>&, Real);
+
+}  // namespace tear

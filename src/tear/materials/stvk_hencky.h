@@ -1,0 +1,38 @@
+// materials/: St. Venant-Kirchhoff with Hencky strain on the signed singular values: energy,
+// stress P and a numerical dP. Isotropic; ignores fibers and damage.
+#pragma once
+
+#include "tear/materials/material.h"
+
+namespace tear {
+
+// Psi = mu |log Sigma|^2 + lambda/2 (tr log Sigma)^2, F = U Sigma V^T the signed SVD, log
+// floored (safe_log, helpers.h). The model plasticity return maps will use (docs/materials.md).
+struct StvkHencky {
+  static constexpr Model kModel = Model::StvkHencky;
+  static constexpr const char* kName = "stvk_hencky";
+  static constexpr bool kHasFiberStiffness = false;
+  static constexpr bool kDegradedByDamage = false;
+  // Numerical until the SVD-based analytic differential is written.
+  static constexpr bool kAnalyticDifferential = false;
+  // Its return map (von Mises, Drucker-Prager on log Sigma) goes here when plasticity lands.
+  static constexpr bool kPlastic = false;
+
+  // mu, lambda are the Lame parameters of (E, nu) as make_material sets them.
+  static void map_parameters(MaterialParams*, Real, Real) {}
+
+  template <int Dim>
+  static Real energy(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D, Real g);
+
+  // P = U diag(dPsi/dsigma_i) V^T.
+  template <int Dim>
+  static Mat<Dim> first_piola(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D,
+                              Real g);
+
+  // Central differences of first_piola (numeric_stress_differential, helpers.h).
+  template <int Dim>
+  static Mat<Dim> stress_differential(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D,
+                                      const Mat<Dim>& dF, Real g);
+};
+
+}  // namespace tear
