@@ -1,138 +1,30 @@
-#include "tear/materials/material.h"
-#include "tear/math/qr.h"
-
-#include <gtest/gtest.h>
-
-#include <cmath>
-#include <random>
+// Properties every registered model must have, and the shared helpers of helpers.h.
+#include "material_test_util.h"
+#include "tear/materials/helpers.h"
+#include "tear/materials/registry.h"
 
 namespace tear {
 namespace {
 
-const Model kModels[] = {Model::QrAniso, Model::FixedCorotated, Model::NeoHookean,
-                         Model::StvkHencky};
+using namespace material_test;
 
-template <int Dim>
-Mat<Dim> random_matrix(std::mt19937_64& rng, double range) {
-  std::uniform_real_distribution<double> u(-range, range);
-  Mat<Dim> A;
-  for (int i = 0; i < Dim; ++i)
-    for (int j = 0; j < Dim; ++j) A(i, j) = u(rng);
-  return A;
-}
-
-template <int Dim>
-Mat<Dim> random_rotation(std::mt19937_64& rng) {
-  Mat<Dim> Q, R;
-  qr_decompose<Dim>(random_matrix<Dim>(rng, 1) + 0.1 * Mat<Dim>::Identity(), &Q, &R);
-  return Q;
-}
-
-// F = U diag(s) V^T with prescribed singular values (a negative last one inverts F).
-template <int Dim>
-Mat<Dim> with_singular_values(std::mt19937_64& rng, const Vec<Dim>& s) {
-  return random_rotation<Dim>(rng) * s.asDiagonal() * random_rotation<Dim>(rng).transpose();
-}
-
-// The deformation gradients every derivative test visits: mild, large, near-singular and
-// inverted ones.
-template <int Dim>
-std::vector<Mat<Dim>> test_deformations(std::mt19937_64& rng) {
-  std::vector<Mat<Dim>> Fs;
-  for (int k = 0; k < 6; ++k) {
-    Fs.push_back(Mat<Dim>::Identity() + random_matrix<Dim>(rng, 0.3));
-    Fs.push_back(Mat<Dim>::Identity() + random_matrix<Dim>(rng, 1.0));
-  }
-  Vec<Dim> near_singular = Vec<Dim>::Ones(), inverted = Vec<Dim>::Ones();
-  near_singular[0] = 1.3;
-  near_singular[Dim - 1] = 2e-3;
-  inverted[0] = 0.8;
-  inverted[Dim - 1] = -0.4;
-  for (int k = 0; k < 4; ++k) {
-    Fs.push_back(with_singular_values<Dim>(rng, near_singular));
-    Fs.push_back(with_singular_values<Dim>(rng, inverted));
-  }
-  return Fs;
-}
-
-template <int Dim>
-void expect_stress_is_energy_gradient(Model model, Real g) {
-  std::mt19937_64 rng(42 + Dim);
-  const MaterialParams m = make_material(model, 1000, 0.3, 1, 4, 2);
-  int checked = 0;
-  for (const Mat<Dim>& F : test_deformations<Dim>(rng)) {
-    const Mat<Dim> D = random_rotation<Dim>(rng);
-    const Mat<Dim> P = first_piola<Dim>(m, F, D, g);
-    const double h = 1e-6;
-    Mat<Dim> fd;
-    for (int i = 0; i < Dim; ++i)
-      for (int j = 0; j < Dim; ++j) {
-        Mat<Dim> Fp = F, Fm = F;
-        Fp(i, j) += h;
-        Fm(i, j) -= h;
-        fd(i, j) = (energy_density<Dim>(m, Fp, D, g) - energy_density<Dim>(m, Fm, D, g)) / (2 * h);
-      }
-    EXPECT_LT((P - fd).norm(), 1e-6 * (1 + P.norm()))
-        << model_name(model) << " Dim " << Dim << " g " << g << "\nF =\n" << F << "\nP =\n"
-        << P << "\nfinite difference =\n" << fd;
-    ASSERT_TRUE(P.allFinite());
-    ++checked;
-  }
-  EXPECT_EQ(checked, 20);
-}
-
-TEST(Materials, StressIsTheEnergyGradientByFiniteDifferences) {
-  for (Model model : kModels) {
-    expect_stress_is_energy_gradient<2>(model, 1);
-    expect_stress_is_energy_gradient<3>(model, 1);
-  }
-}
-
-TEST(Materials, DegradedQrStressIsTheDegradedEnergyGradient) {
-  expect_stress_is_energy_gradient<2>(Model::QrAniso, 0.3);
-  expect_stress_is_energy_gradient<3>(Model::QrAniso, 0.3);
-  expect_stress_is_energy_gradient<3>(Model::QrAniso, 0.0);
-}
-
-// degrade_qr_stress turns the undegraded stress into the degraded one without a QR; it must
-// agree with first_piola(..., g) in tension and compression, for any fiber frame and g.
-template <int Dim>
-void expect_degrade_qr_stress_matches() {
-  std::mt19937_64 rng(12);
-  const MaterialParams m = make_material(Model::QrAniso, 1000, 0.3, 1, 10, 5);
-  int tension = 0, compression = 0;
-  for (int k = 0; k < 200; ++k) {
-    const Mat<Dim> D = random_rotation<Dim>(rng);
-    const Mat<Dim> F = Mat<Dim>::Identity() + random_matrix<Dim>(rng, 0.4);
-    const Real J = F.determinant();
-    if (J <= 0) continue;
-    (J >= 1 ? tension : compression) += 1;
-    const Mat<Dim> P = first_piola<Dim>(m, F, D);
-    for (Real g : {0.0, 1e-3, 0.3, 1.0}) {
-      const Mat<Dim> expected = first_piola<Dim>(m, F, D, g);
-      EXPECT_LT((degrade_qr_stress<Dim>(m, F, P, g) - expected).norm(),
-                1e-12 * (m.E + expected.norm()))
-          << "g " << g << " J " << J;
-    }
-  }
-  EXPECT_GT(tension, 30);
-  EXPECT_GT(compression, 30);
-}
-
-TEST(QrAniso, DegradingTheStoredStressEqualsTheDegradedStress) {
-  expect_degrade_qr_stress_matches<2>();
-  expect_degrade_qr_stress_matches<3>();
+// Every model in the registry: a model added there is held to these properties without edits.
+std::vector<Model> registered_models() {
+  std::vector<Model> models;
+  for (const ModelTraits& t : kModelTraits) models.push_back(t.model);
+  return models;
 }
 
 template <int Dim>
 void expect_rest_and_rotation_are_stress_free() {
   std::mt19937_64 rng(5);
-  for (Model model : kModels) {
+  for (Model model : registered_models()) {
     const MaterialParams m = make_material(model, 1000, 0.3, 1, 10, 5);
     for (int k = 0; k < 10; ++k) {
       const Mat<Dim> D = random_rotation<Dim>(rng);
       const Mat<Dim> R = random_rotation<Dim>(rng);
-      EXPECT_LT(first_piola<Dim>(m, Mat<Dim>::Identity(), D).norm(), 1e-12 * m.E) << model_name(model);
+      EXPECT_LT(first_piola<Dim>(m, Mat<Dim>::Identity(), D).norm(), 1e-12 * m.E)
+          << model_name(model);
       EXPECT_NEAR(energy_density<Dim>(m, Mat<Dim>::Identity(), D), 0, 1e-12);
       EXPECT_LT(first_piola<Dim>(m, R, D).norm(), 1e-12 * m.E) << model_name(model);
       EXPECT_NEAR(energy_density<Dim>(m, R, D), 0, 1e-10);
@@ -148,7 +40,7 @@ TEST(Materials, ZeroStressAtRestAndUnderRotation) {
 template <int Dim>
 void expect_rotation_invariance() {
   std::mt19937_64 rng(9);
-  for (Model model : kModels) {
+  for (Model model : registered_models()) {
     const MaterialParams m = make_material(model, 1000, 0.3, 1, 10, 5);
     for (const Mat<Dim>& F : test_deformations<Dim>(rng)) {
       const Mat<Dim> D = random_rotation<Dim>(rng);
@@ -167,73 +59,6 @@ TEST(Materials, RotationInvariance) {
   expect_rotation_invariance<3>();
 }
 
-// The paper's route to the stress (EQUATIONS.md §2): with F D = Q R and M = dPsi/dR (upper
-// triangular), Abar is the symmetric matrix whose upper triangle is that of M R^T, and
-// P = Q Abar R^{-T} D^T. It divides by r_ii; the library's form must agree where R is invertible.
-template <int Dim>
-Mat<Dim> paper_qr_stress(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D) {
-  Mat<Dim> Q, R;
-  qr_decompose<Dim>(F * D, &Q, &R);
-  const Real J = R.diagonal().prod();
-  const Real s = -m.mu + m.lambda * (J - 1);
-  Mat<Dim> M = m.mu * R;
-  for (int i = 0; i < Dim; ++i) M(i, i) += s * J / R(i, i);
-  M(0, 0) += m.kx * (R(0, 0) - 1);
-  if (Dim == 3) {
-    const Real n2 = std::hypot(R(0, 1), R(1, 1));
-    M(0, 1) += m.ky * (n2 - 1) * R(0, 1) / n2;
-    M(1, 1) += m.ky * (n2 - 1) * R(1, 1) / n2;
-  }
-  const Mat<Dim> MRt = M * R.transpose();
-  Mat<Dim> Abar;
-  for (int i = 0; i < Dim; ++i)
-    for (int j = i; j < Dim; ++j) Abar(i, j) = Abar(j, i) = MRt(i, j);
-  return Q * Abar * R.inverse().transpose() * D.transpose();
-}
-
-template <int Dim>
-void expect_paper_stress_agrees() {
-  std::mt19937_64 rng(13);
-  const MaterialParams m = make_material(Model::QrAniso, 1000, 0.3, 1, 6, 3);
-  for (const Mat<Dim>& F : test_deformations<Dim>(rng)) {
-    const Mat<Dim> D = random_rotation<Dim>(rng);
-    const Mat<Dim> P = first_piola<Dim>(m, F, D);
-    EXPECT_LT((paper_qr_stress<Dim>(m, F, D) - P).norm(), 1e-8 * (1 + P.norm()));
-  }
-}
-
-TEST(QrAniso, DivisionFreeStressEqualsThePaperForm) {
-  expect_paper_stress_agrees<2>();
-  expect_paper_stress_agrees<3>();
-}
-
-TEST(QrAniso, StressStaysFiniteAndContinuousAsR11GoesToZero) {
-  // Fiber a1 = x; F squashes the fiber to length r11 while other directions stay regular.
-  const MaterialParams m = make_material(Model::QrAniso, 1000, 0.3, 1, 0, 3);
-  const Mat<3> D = Mat<3>::Identity();
-  auto F_at = [](double r11) {
-    Mat<3> F;
-    F << r11, 0.4, 0.1,  //
-        0, 1.1, 0.3,     //
-        0, 0.2, 0.9;
-    return F;
-  };
-  const Mat<3> P0 = first_piola<3>(m, F_at(0), D);
-  ASSERT_TRUE(P0.allFinite());
-  for (double r11 : {1e-4, 1e-8, 1e-12, 1e-30, 1e-300}) {
-    const Mat<3> P = first_piola<3>(m, F_at(r11), D);
-    ASSERT_TRUE(P.allFinite()) << r11;
-    EXPECT_LT((P - P0).norm(), 1e4 * r11 * (1 + P0.norm())) << r11;
-  }
-  // With fiber stiffness the stress is still finite at r11 = 0 (2D and 3D).
-  const MaterialParams mf = make_material(Model::QrAniso, 1000, 0.3, 1, 20, 3);
-  EXPECT_TRUE(first_piola<3>(mf, F_at(0), D).allFinite());
-  Mat<2> F2;
-  F2 << 0, 0.5, 0, 1.2;
-  EXPECT_TRUE(first_piola<2>(mf, F2, Mat<2>::Identity()).allFinite());
-  EXPECT_TRUE(first_piola<3>(mf, Mat<3>::Zero(), D).allFinite());
-}
-
 template <int Dim>
 void expect_small_strain_matches_linear_elasticity(Model model) {
   const double E = 2500, nu = 0.27;
@@ -245,101 +70,108 @@ void expect_small_strain_matches_linear_elasticity(Model model) {
     const Mat<Dim> H = random_matrix<Dim>(rng, 1);
     const Mat<Dim> strain = eps * (H + H.transpose()) / 2;
     const Mat<Dim> sigma = 2 * mu * strain + lambda * strain.trace() * Mat<Dim>::Identity();
-    const Mat<Dim> P = first_piola<Dim>(m, Mat<Dim>::Identity() + eps * H, random_rotation<Dim>(rng));
+    const Mat<Dim> P =
+        first_piola<Dim>(m, Mat<Dim>::Identity() + eps * H, random_rotation<Dim>(rng));
     EXPECT_LT((P - sigma).norm(), 1e-4 * sigma.norm()) << model_name(model) << " Dim " << Dim;
   }
 }
 
 TEST(Materials, SmallStrainMatchesLinearElasticityWithEAndNu) {
-  for (Model model : kModels) {
+  for (Model model : registered_models()) {
     expect_small_strain_matches_linear_elasticity<2>(model);
     expect_small_strain_matches_linear_elasticity<3>(model);
   }
 }
 
-TEST(QrAniso, FiberStiffnessAddsToTheUniaxialModulusAlongTheFiber) {
-  const double E = 1000, nu = 0.25, gamma1 = 8, gamma2 = 3;
-  const MaterialParams m = make_material(Model::QrAniso, E, nu, 1, gamma1, gamma2);
+// At rest, dP is the elasticity tensor of linear elasticity with (E, nu): dP = 2 mu sym(dF) +
+// lambda_Lame tr(dF) I, for every model and fiber frame (no fiber stiffness here).
+template <int Dim>
+void expect_rest_differential_is_linear_elasticity(Model model) {
+  const double E = 2500, nu = 0.27;
+  const MaterialParams m = make_material(model, E, nu, 1);
   const double mu = E / (2 * (1 + nu)), lambda = E * nu / ((1 + nu) * (1 - 2 * nu));
-  std::mt19937_64 rng(23);
-  const Mat<3> D = random_rotation<3>(rng);
-  const double e = 1e-6;
-  for (int f = 0; f < 3; ++f) {
-    const Vec<3> a = D.col(f);
-    const Mat<3> F = Mat<3>::Identity() + e * a * a.transpose();
-    const double normal_stress = a.dot(first_piola<3>(m, F, D) * a);
-    const double fiber = f == 0 ? gamma1 * mu : f == 1 ? gamma2 * mu : 0;
-    EXPECT_NEAR(normal_stress / e, lambda + 2 * mu + fiber, 1e-3 * (lambda + 2 * mu)) << f;
+  std::mt19937_64 rng(29);
+  for (int k = 0; k < 5; ++k) {
+    const Mat<Dim> dF = random_direction<Dim>(rng), D = random_rotation<Dim>(rng);
+    const Mat<Dim> expected =
+        mu * (dF + dF.transpose()) + lambda * dF.trace() * Mat<Dim>::Identity();
+    const Mat<Dim> dP = stress_differential<Dim>(m, Mat<Dim>::Identity(), D, dF);
+    EXPECT_LT((dP - expected).norm(), 1e-7 * expected.norm())
+        << model_name(model) << " Dim " << Dim;
   }
-  // 2D: only a1 is stiffened.
-  const MaterialParams m2 = make_material(Model::QrAniso, E, nu, 1, gamma1, 0);
-  Mat<2> D2;
-  D2 << 0.6, -0.8, 0.8, 0.6;
-  const Vec<2> a1 = D2.col(0), a2 = D2.col(1);
-  const double s1 = a1.dot(first_piola<2>(m2, Mat<2>::Identity() + e * a1 * a1.transpose(), D2) * a1);
-  const double s2 = a2.dot(first_piola<2>(m2, Mat<2>::Identity() + e * a2 * a2.transpose(), D2) * a2);
-  EXPECT_NEAR(s1 / e, lambda + 2 * mu + gamma1 * mu, 1e-3 * lambda);
-  EXPECT_NEAR(s2 / e, lambda + 2 * mu, 1e-3 * lambda);
 }
 
-TEST(QrAniso, DegradationSoftensTensionButNotCompressionVolume) {
-  // A fully damaged particle (g = r) carries r of the isotropic stress in tension (J >= 1),
-  // and in compression r of the mu terms plus the full volumetric (lambda) term. Fiber
-  // terms are never degraded. Checked on general F (shear + stretch), 2D and 3D.
-  const Real r = Real(0.001);
-  const MaterialParams m = make_material(Model::QrAniso, 1000, 0.3, 1, 5, 2);
-  MaterialParams iso = m, mu_only = m;
-  iso.kx = iso.ky = 0;
-  mu_only.kx = mu_only.ky = 0;
-  mu_only.lambda = 0;
-  std::mt19937_64 rng(11);
-  std::uniform_real_distribution<double> u(-0.05, 0.05);
-  for (int k = 0; k < 20; ++k) {
-    Mat<3> F = Mat<3>::Identity();
-    for (int i = 0; i < 9; ++i) F.data()[i] += Real(u(rng));
-    const Mat<3> D = random_rotation<3>(rng);
-    for (Real scale : {Real(1.06), Real(0.94)}) {  // J > 1 and J < 1
-      const Mat<3> G = scale * F;
-      const bool tension = G.determinant() >= 1;
-      const Mat<3> P_iso = first_piola<3>(iso, G, D), P_mu = first_piola<3>(mu_only, G, D);
-      const Mat<3> expected = tension ? Mat<3>(r * P_iso) : Mat<3>(r * P_mu + (P_iso - P_mu));
-      EXPECT_LT((first_piola<3>(iso, G, D, r) - expected).norm(), 1e-10 * P_iso.norm())
-          << (tension ? "tension" : "compression");
-      // The fibers add the same stress at any damage.
-      const Mat<3> fiber_0 = first_piola<3>(m, G, D) - P_iso;
-      const Mat<3> fiber_r = first_piola<3>(m, G, D, r) - first_piola<3>(iso, G, D, r);
-      EXPECT_LT((fiber_r - fiber_0).norm(), 1e-10 * (1 + fiber_0.norm()));
-      if (k == 0) {
-        EXPECT_GT(fiber_0.norm(), 0.1 * P_iso.norm());  // not vacuous
-      }
-    }
+TEST(Materials, StressDifferentialAtRestIsTheLinearElasticityTensor) {
+  for (Model model : registered_models()) {
+    expect_rest_differential_is_linear_elasticity<2>(model);
+    expect_rest_differential_is_linear_elasticity<3>(model);
   }
-  const MaterialParams iso2 = make_material(Model::QrAniso, 1000, 0.3, 1);
-  const Mat<2> stretch = Vec<2>(1.05, 1.02).asDiagonal();
-  EXPECT_LT((first_piola<2>(iso2, stretch, Mat<2>::Identity(), r) -
-             r * first_piola<2>(iso2, stretch, Mat<2>::Identity()))
-                .norm(),
-            1e-10 * first_piola<2>(iso2, stretch, Mat<2>::Identity()).norm());
 }
 
-TEST(Materials, ParameterMappingAndWaveSpeed) {
-  const MaterialParams q = make_material(Model::QrAniso, 1000, 0.25, 2, 4, 1);
-  const double mu = 400, lambda = 400;
-  EXPECT_DOUBLE_EQ(q.mu, mu);
-  EXPECT_DOUBLE_EQ(q.lambda, lambda + mu);
-  EXPECT_DOUBLE_EQ(q.kx, 4 * mu);
-  EXPECT_DOUBLE_EQ(q.ky, mu);
-  EXPECT_DOUBLE_EQ(wave_speed(q), std::sqrt((lambda + 2 * mu + 4 * mu) / 2));
-  const MaterialParams c = make_material(Model::FixedCorotated, 1000, 0.25, 2, 4, 1);
-  EXPECT_DOUBLE_EQ(c.lambda, lambda);
-  EXPECT_DOUBLE_EQ(c.kx, 0);
-  EXPECT_DOUBLE_EQ(wave_speed(c), std::sqrt((lambda + 2 * mu) / 2));
-  Model parsed;
-  for (Model model : kModels) {
-    ASSERT_TRUE(parse_model(model_name(model), &parsed));
-    EXPECT_EQ(parsed, model);
+// The numerical fallback (numeric_stress_differential) reproduces the analytic differentials
+// of neo_hookean and fixed_corotated: to ~1e-10 relative near identity (|F - I| ~ 0.3), and
+// to the h^2 truncation far from it (large stretches, J near 0, inversion).
+template <int Dim>
+void expect_numeric_differential_matches_analytic(Model model) {
+  std::mt19937_64 rng(37 + Dim);
+  const MaterialParams m = test_material(model);
+  const std::vector<Mat<Dim>> Fs = test_deformations<Dim>(rng);
+  for (size_t k = 0; k < Fs.size(); ++k) {
+    const Mat<Dim>& F = Fs[k];
+    const bool near_identity = k < 12 && k % 2 == 0;
+    const Mat<Dim> D = random_rotation<Dim>(rng), dF = random_direction<Dim>(rng);
+    const auto stress = [&](const Mat<Dim>& G) { return first_piola<Dim>(m, G, D); };
+    const Mat<Dim> dP = stress_differential<Dim>(m, F, D, dF);
+    const Mat<Dim> numeric = numeric_stress_differential<Dim>(stress, F, dF);
+    EXPECT_LT((numeric - dP).norm(), (near_identity ? 1e-9 : 1e-6) * (1 + dP.norm()))
+        << model_name(model) << " Dim " << Dim << "\nF =\n"
+        << F;
   }
-  EXPECT_FALSE(parse_model("qr-aniso", &parsed));
+}
+
+TEST(NumericStressDifferential, MatchesTheAnalyticDifferentials) {
+  for (Model model : registered_models()) {
+    if (!model_traits(model).analytic_differential) continue;
+    expect_numeric_differential_matches_analytic<2>(model);
+    expect_numeric_differential_matches_analytic<3>(model);
+  }
+}
+
+// The floored log is C2: slope and curvature are its derivatives on both sides of the floor,
+// and all three are continuous across it.
+TEST(SafeLog, SlopeAndCurvatureAreItsDerivativesAcrossTheFloor) {
+  const double h = 1e-7;
+  for (double x : {-0.5, 0.0, 0.005, 0.0099, 0.0101, 0.05, 1.0, 3.0}) {
+    EXPECT_NEAR((safe_log(x + h) - safe_log(x - h)) / (2 * h), safe_log_slope(x),
+                1e-6 * std::abs(safe_log_slope(x)))
+        << x;
+    EXPECT_NEAR((safe_log_slope(x + h) - safe_log_slope(x - h)) / (2 * h), safe_log_curvature(x),
+                1e-5 * std::abs(safe_log_curvature(x)))
+        << x;
+  }
+  EXPECT_DOUBLE_EQ(safe_log(1.0), 0);
+  const double below = kLogFloor * (1 - 1e-12), above = kLogFloor * (1 + 1e-12);
+  EXPECT_NEAR(safe_log(below), safe_log(above), 1e-9);
+  EXPECT_NEAR(safe_log_slope(below), safe_log_slope(above), 1e-9 / kLogFloor);
+  EXPECT_NEAR(safe_log_curvature(below), safe_log_curvature(above), 1e-9 / (kLogFloor * kLogFloor));
+}
+
+// cof F is quadratic in F (linear in 2D), so central differences are exact up to round-off.
+template <int Dim>
+void expect_cofactor_differential_matches() {
+  std::mt19937_64 rng(41 + Dim);
+  for (const Mat<Dim>& F : test_deformations<Dim>(rng)) {
+    const Mat<Dim> dF = random_direction<Dim>(rng);
+    const double h = 1e-3;
+    const Mat<Dim> fd = (cofactor<Dim>(F + h * dF) - cofactor<Dim>(F - h * dF)) / (2 * h);
+    EXPECT_LT((cofactor_differential<Dim>(F, dF) - fd).norm(), 1e-10 * (1 + fd.norm()))
+        << "Dim " << Dim;
+  }
+}
+
+TEST(CofactorDifferential, MatchesFiniteDifferencesOfTheCofactor) {
+  expect_cofactor_differential_matches<2>();
+  expect_cofactor_differential_matches<3>();
 }
 
 }  // namespace
