@@ -1,8 +1,10 @@
-// Google Benchmark micro benches: cost of one first Piola-Kirchhoff stress evaluation, of the
-// polar rotation (fast vs the SVD reference) and of the per-particle damage driving force.
+// Google Benchmark micro benches: cost of one first Piola-Kirchhoff stress evaluation and of one
+// stress differential dP (per registered model), of the polar rotation (fast vs the SVD
+// reference) and of the per-particle damage driving force.
 // `tear bench` reports the stress comparison as JSON; this is the profiler-friendly variant.
 #include "tear/damage/driving_force.h"
 #include "tear/materials/material.h"
+#include "tear/materials/registry.h"
 #include "tear/math/polar.h"
 #include "tear/math/qr.h"
 #include "tear/math/svd.h"
@@ -73,8 +75,28 @@ void BM_FirstPiola(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations());
 }
 
-BENCHMARK_TEMPLATE(BM_FirstPiola, 2)->DenseRange(0, 3);
-BENCHMARK_TEMPLATE(BM_FirstPiola, 3)->DenseRange(0, 3);
+BENCHMARK_TEMPLATE(BM_FirstPiola, 2)->DenseRange(0, Models::kCount - 1);
+BENCHMARK_TEMPLATE(BM_FirstPiola, 3)->DenseRange(0, Models::kCount - 1);
+
+// dP along a fixed direction; the label says whether the model's differential is analytic or
+// the numerical fallback (up to 2 Dim^2 stress evaluations).
+template <int Dim>
+void BM_StressDifferential(benchmark::State& state) {
+  const Pool<Dim>& pool = pool_by_index<Dim>(0);
+  const MaterialParams m = make_material(Model(state.range(0)), 1e4, 0.3, 1, 2, 1);
+  const Mat<Dim> dF = Mat<Dim>::Constant(Real(0.1)) + Mat<Dim>::Identity();
+  size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(stress_differential<Dim>(m, pool.F[i], pool.D[i], dF));
+    i = (i + 1) & 4095;
+  }
+  state.SetLabel(std::string(model_name(m.model)) +
+                 (model_traits(m.model).analytic_differential ? " analytic" : " numeric"));
+  state.SetItemsProcessed(state.iterations());
+}
+
+BENCHMARK_TEMPLATE(BM_StressDifferential, 2)->DenseRange(0, Models::kCount - 1);
+BENCHMARK_TEMPLATE(BM_StressDifferential, 3)->DenseRange(0, Models::kCount - 1);
 
 // Polar rotation of F = R S: first argument 0 the signed-SVD reference, 1 polar_rotation();
 // second argument the pool (0 wide, 1 mild).
