@@ -2,8 +2,8 @@
 // Owns Scene (a plain description) and SceneError; knows nothing of grids or solvers.
 #pragma once
 
+#include "tear/geometry/shape.h"
 #include "tear/materials/material.h"
-#include "tear/scene/shape.h"
 
 #include <nlohmann/json.hpp>
 
