@@ -1,4 +1,4 @@
-#include "tear/grid/boundary.h"
+#include "tear/grid/collider.h"
 #include "tear/grid/sparse_grid.h"
 
 #include <Eigen/Geometry>
@@ -92,31 +92,31 @@ TEST(SparseGrid, StencilWeightsReproduceConstantsLinesAndTheMlsInertia) {
 
 TEST(Boundary, StickyTakesTheWallVelocity) {
   const Vec<2> v(1, -2), vw(0.5, 0), n(0, 1);
-  EXPECT_EQ(contact_velocity<2>(v, vw, n, WallType::Sticky, 0), vw);
+  EXPECT_EQ(contact_velocity<2>(v, vw, n, ContactType::Sticky, 0), vw);
 }
 
 TEST(Boundary, SlipRemovesNormalRelativeVelocityBothWays) {
   const Vec<2> n(0, 1);
-  EXPECT_TRUE(contact_velocity<2>(Vec<2>(1, -2), Vec<2>::Zero(), n, WallType::Slip, 0)
+  EXPECT_TRUE(contact_velocity<2>(Vec<2>(1, -2), Vec<2>::Zero(), n, ContactType::Slip, 0)
                   .isApprox(Vec<2>(1, 0)));
-  EXPECT_TRUE(contact_velocity<2>(Vec<2>(1, 2), Vec<2>::Zero(), n, WallType::Slip, 0)
+  EXPECT_TRUE(contact_velocity<2>(Vec<2>(1, 2), Vec<2>::Zero(), n, ContactType::Slip, 0)
                   .isApprox(Vec<2>(1, 0)));
 }
 
 TEST(Boundary, SeparateOnlyStopsApproachAndFrictionSlowsTangent) {
   const Vec<2> n(0, 1);
-  EXPECT_EQ(contact_velocity<2>(Vec<2>(1, 2), Vec<2>::Zero(), n, WallType::Separate, 0.5),
+  EXPECT_EQ(contact_velocity<2>(Vec<2>(1, 2), Vec<2>::Zero(), n, ContactType::Separate, 0.5),
             Vec<2>(1, 2));
   // |v_t| = 1, |v_n| = 1, mu = 0.5: tangential speed drops to 0.5.
-  EXPECT_TRUE(contact_velocity<2>(Vec<2>(1, -1), Vec<2>::Zero(), n, WallType::Separate, 0.5)
+  EXPECT_TRUE(contact_velocity<2>(Vec<2>(1, -1), Vec<2>::Zero(), n, ContactType::Separate, 0.5)
                   .isApprox(Vec<2>(0.5, 0)));
   // mu large enough: the tangent stops.
-  EXPECT_TRUE(contact_velocity<2>(Vec<2>(1, -1), Vec<2>::Zero(), n, WallType::Separate, 2)
+  EXPECT_TRUE(contact_velocity<2>(Vec<2>(1, -1), Vec<2>::Zero(), n, ContactType::Separate, 2)
                   .isZero());
 }
 
 TEST(Boundary, ColliderMovesOnlyDuringItsWindow) {
-  BoundarySpec b;
+  Collider b;
   b.velocity = Vec3d(1, 0, 0);
   b.start = 1, b.end = 2;
   EXPECT_FALSE(collider_state(b, 0.5).active);
@@ -137,8 +137,8 @@ SparseGrid<2> filled_grid(const Vec<2>& v) {
 
 TEST(Boundary, SpinningStickyColliderImposesRigidVelocity) {
   SparseGrid<2> g = filled_grid(Vec<2>(3, 3));
-  BoundarySpec b;
-  b.type = WallType::Sticky;
+  Collider b;
+  b.type = ContactType::Sticky;
   b.shape.type = Shape::Type::Box;
   b.shape.dim = 2;
   b.shape.min = Vec3d(0.4, 0.4, 0);
@@ -146,7 +146,7 @@ TEST(Boundary, SpinningStickyColliderImposesRigidVelocity) {
   b.velocity = Vec3d(0.1, 0, 0);
   b.angular_velocity = Vec3d(0, 0, 2);
   const double t = 0.25;  // moved by 0.025 and turned by 0.5 rad about its centre
-  apply_boundaries<2>(g, WallType::None, {b}, t);
+  apply_colliders<2>(g, ContactType::None, {b}, t);
   const Vec3d centre(0.5 + 0.1 * t, 0.5, 0);
   const Eigen::Matrix3d R = Eigen::AngleAxisd(0.5, Vec3d::UnitZ()).toRotationMatrix();
   int inside = 0, outside = 0;
@@ -170,14 +170,14 @@ TEST(Boundary, SpinningStickyColliderImposesRigidVelocity) {
 
 TEST(Boundary, HalfSpaceAndDomainWallsStopApproachingNodes) {
   SparseGrid<2> g = filled_grid(Vec<2>(0.5, -1));
-  BoundarySpec floor;
-  floor.type = WallType::Separate;
+  Collider floor;
+  floor.type = ContactType::Separate;
   floor.friction = 0.25;
   floor.shape.type = Shape::Type::HalfSpace;
   floor.shape.dim = 2;
   floor.shape.point = Vec3d(0, 0.5, 0);
   floor.shape.normal = Vec3d(0, 1, 0);
-  apply_boundaries<2>(g, WallType::Sticky, {floor}, 0);
+  apply_colliders<2>(g, ContactType::Sticky, {floor}, 0);
   int wall = 0, below = 0, above = 0;
   for (size_t i = 0; i < g.mass.size(); ++i) {
     const Vec<2> x = g.node_position(int(i));

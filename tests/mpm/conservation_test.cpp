@@ -123,7 +123,7 @@ std::vector<Real> run_state(int threads) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
   Scene s = basic_scene(Dim, 0.05, Vec3d::Zero(), Vec3d::Constant(2.0), Model::QrAniso, 1e3,
                         0.3, 1, 3);
-  s.walls = WallType::Separate;
+  s.walls = ContactType::Separate;
   s.gravity = Vec3d(0, -9.8, 0);
   Particles<Dim> p = lattice_block<Dim>(s, Vec<Dim>::Constant(Real(0.2)),
                                         Vec<Dim>::Constant(Real(0.9)), 2,

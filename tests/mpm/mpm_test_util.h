@@ -13,7 +13,7 @@ inline Scene basic_scene(int dim, double dx, Vec3d lo, Vec3d hi, Model model, do
   s.dx = dx;
   s.domain_min = lo;
   s.domain_max = hi;
-  s.walls = WallType::None;
+  s.walls = ContactType::None;
   s.cfl = 0.4;
   s.max_dt = 1e-2;
   MaterialSpec m;

@@ -21,8 +21,8 @@ double measured_frequency(Model model, double fiber_scale) {
   Scene s = basic_scene(2, dx, Vec3d(0, 0, 0), Vec3d(1.5, 0.5, 0), model, E, 0.0, rho,
                         fiber_scale);
   // Sticky clamp: every node at x <= x0 is held still.
-  BoundarySpec clamp;
-  clamp.type = WallType::Sticky;
+  Collider clamp;
+  clamp.type = ContactType::Sticky;
   clamp.shape.type = Shape::Type::Box;
   clamp.shape.dim = 2;
   clamp.shape.min = Vec3d(-1, -1, 0);

@@ -46,7 +46,7 @@ TEST(SceneLoad, MinimalSceneGetsEveryDefault) {
   Scene s = parse_scene(test::minimal_scene_2d(), "scenes/mini.json");
   EXPECT_EQ(s.name, "mini");
   EXPECT_EQ(s.seed, 1u);
-  EXPECT_EQ(s.walls, WallType::Separate);
+  EXPECT_EQ(s.walls, ContactType::Separate);
   EXPECT_DOUBLE_EQ(s.cfl, 0.4);
   EXPECT_DOUBLE_EQ(s.max_dt, 1e-3);
   EXPECT_EQ(s.transfer, Transfer::Apic);

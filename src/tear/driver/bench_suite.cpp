@@ -57,7 +57,7 @@ static Scene bench_block_scene(long particles) {
   s.dx = 1.0 / 64;
   s.domain_min = Vec3d::Zero();
   s.domain_max = Vec3d::Ones();
-  s.walls = WallType::Separate;
+  s.walls = ContactType::Separate;
   s.gravity = Vec3d(0, -9.8, 0);
   s.max_dt = 1e-3;
   MaterialSpec m;

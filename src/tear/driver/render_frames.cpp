@@ -35,13 +35,13 @@ RenderLook look_of(const Scene& s) {
   }
   // Floors: half spaces whose solid side is below (outward normal along up), and the domain's
   // lower wall when walls hold the particles in.
-  for (const BoundarySpec& b : s.boundaries) {
+  for (const Collider& b : s.boundaries) {
     if (b.shape.type != Shape::Type::HalfSpace) continue;
     const Vec3d n = (b.shape.transform.rotate * b.shape.normal).normalized();
     if (n.dot(look.up) > 0.999)
       look.floors.push_back(b.shape.transform.to_world(b.shape.point).dot(look.up));
   }
-  if (s.walls != WallType::None)
+  if (s.walls != ContactType::None)
     for (int a = 0; a < s.dim; ++a) {
       if (look.up[a] > 0.999) look.floors.push_back(s.domain_min[a]);
       if (look.up[a] < -0.999) look.floors.push_back(-s.domain_max[a]);

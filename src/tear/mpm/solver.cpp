@@ -1,7 +1,7 @@
 #include "tear/mpm/solver.h"
 
 #include "tear/damage/driving_force.h"
-#include "tear/grid/boundary.h"
+#include "tear/grid/collider.h"
 #include "tear/math/parallel.h"
 #include "tear/scene/sampling.h"
 
@@ -168,7 +168,7 @@ void MpmSolver<Dim>::grid_update(Real dt) {
       grid_.velocity[node] += dt * gravity_;
     }
   });
-  apply_boundaries<Dim>(grid_, scene_.walls, scene_.boundaries, time_);
+  apply_colliders<Dim>(grid_, scene_.walls, scene_.boundaries, time_);
 }
 
 template <int Dim>

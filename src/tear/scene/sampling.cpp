@@ -3,6 +3,7 @@
 // depend on iteration order, thread count or the standard library.
 #include "tear/scene/sampling.h"
 
+#include "tear/geometry/shape.h"
 #include "tear/scene/scene_parts.h"
 
 #include <algorithm>

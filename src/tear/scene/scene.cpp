@@ -48,7 +48,7 @@ json parse_grid(const Reader& r, const json& doc, Scene* s) {
             "too small for the domain: " + num_str(std::ceil(cells)) + " cells along axis " +
                 std::to_string(i) + " (at most " + num_str(kMaxCellsPerAxis) + ")");
   }
-  s->walls = WallType(r.choice(*g, "grid", "walls", {"sticky", "slip", "separate", "none"}, 2));
+  s->walls = ContactType(r.choice(*g, "grid", "walls", {"sticky", "slip", "separate", "none"}, 2));
   const char* walls[] = {"sticky", "slip", "separate", "none"};
   return {{"dx", s->dx},
           {"domain_min", vec_json(s->domain_min, r.dim)},

@@ -1,9 +1,11 @@
 // scene/: loading, validating and resolving JSON scene files (../shared/design/SCENE_FORMAT.md).
-// Owns Scene (a plain description) and SceneError; knows nothing of grids or solvers.
+// Owns Scene (a plain description) and SceneError; shapes come from geometry/, colliders
+// (Collider, ContactType) from grid/. Knows nothing of solvers.
 #pragma once
 
+#include "tear/geometry/shape.h"
+#include "tear/grid/collider.h"
 #include "tear/materials/material.h"
-#include "tear/scene/shape.h"
 
 #include <nlohmann/json.hpp>
 
@@ -26,7 +28,6 @@ class SceneError : public std::runtime_error {
 };
 
 enum class Transfer { Apic, Pic, Flip };
-enum class WallType { Sticky, Slip, Separate, None };
 enum class FiberField { Constant, Radial, Circumferential, Longitudinal, Random };
 enum class DamageSolver { None, Explicit, Implicit };
 
@@ -75,15 +76,6 @@ struct ObjectSpec {
   FiberSpec fibers;
 };
 
-struct BoundarySpec {
-  WallType type = WallType::Sticky;  // never None here
-  Shape shape;
-  double friction = 0;
-  Vec3d velocity = Vec3d::Zero();
-  Vec3d angular_velocity = Vec3d::Zero();  // about the shape's world centre
-  double start = 0, end = 1e30;
-};
-
 // Preview rendering defaults ("render" section) for `tear render` and `tear run --render`;
 // their command-line options override these. Camera vectors are 3D in 2D scenes too.
 struct RenderSpec {
@@ -108,7 +100,7 @@ struct Scene {
   // grid
   double dx = 0.01;
   Vec3d domain_min = Vec3d::Zero(), domain_max = Vec3d::Ones();
-  WallType walls = WallType::Separate;
+  ContactType walls = ContactType::Separate;
   // time
   double frame_dt = 1.0 / 24;
   int frames = 24;
@@ -123,7 +115,7 @@ struct Scene {
   DamageSolverSpec damage;
   std::vector<MaterialSpec> materials;
   std::vector<ObjectSpec> objects;
-  std::vector<BoundarySpec> boundaries;
+  std::vector<Collider> boundaries;
   // output
   int output_every = 1;
   std::vector<std::string> formats{"ply"};

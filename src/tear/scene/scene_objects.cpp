@@ -119,11 +119,11 @@ json parse_object(const Reader& r, const json& o, const std::string& path, const
   return out;
 }
 
-json parse_boundary(const Reader& r, const json& b, const std::string& path, BoundarySpec* spec) {
+json parse_boundary(const Reader& r, const json& b, const std::string& path, Collider* spec) {
   r.object(b, path,
            {"type", "shape", "friction", "velocity", "angular_velocity", "start", "end"});
   const char* types[] = {"sticky", "slip", "separate"};
-  spec->type = WallType(r.choice(b, path, "type", {"sticky", "slip", "separate"}));
+  spec->type = ContactType(r.choice(b, path, "type", {"sticky", "slip", "separate"}));
   json out = {{"type", types[int(spec->type)]}};
   const json* sj = r.find(b, "shape");
   if (!sj) r.fail(key_path(path, "shape"), "required");
@@ -168,7 +168,7 @@ json parse_boundaries(const Reader& r, const json& doc, Scene* scene) {
   const json* bs = array_section(r, doc, "boundaries");
   if (!bs) return out;
   for (size_t i = 0; i < bs->size(); ++i) {
-    BoundarySpec spec;
+    Collider spec;
     out.push_back(parse_boundary(r, (*bs)[i], index_path("boundaries", i), &spec));
     scene->boundaries.push_back(spec);
   }

@@ -2,6 +2,7 @@
 // Transform convention: x_world = translate + R (scale x_local). R is, in 2D, a rotation by
 // "rotate" degrees counter-clockwise about z; in 3D, "rotate": {"axis": [x,y,z], "angle_deg": a}
 // (right-handed axis-angle).
+#include "tear/geometry/shape.h"
 #include "tear/scene/scene_parts.h"
 
 #include <Eigen/Geometry>

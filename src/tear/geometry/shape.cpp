@@ -1,4 +1,4 @@
-#include "tear/scene/shape.h"
+#include "tear/geometry/shape.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,6 @@
-// scene/: analytic shapes used both to sample objects and as colliders.
-// Geometry is always 3D double; 2D scenes use z = 0 and ignore the third axis.
+// geometry/: analytic shapes (signed distances, inside tests, normals, bounds, transforms), used
+// to sample bodies and as colliders. Knows nothing of particles, grids or scenes.
+// Geometry is always 3D double; 2D shapes use z = 0 and ignore the third axis.
 #pragma once
 
 #include "tear/math/types.h"

@@ -1,4 +1,4 @@
-#include "tear/grid/boundary.h"
+#include "tear/grid/collider.h"
 
 #include <Eigen/Geometry>
 #include <tbb/parallel_for.h>
@@ -11,12 +11,12 @@ namespace tear {
 
 template <int Dim>
 Vec<Dim> contact_velocity(const Vec<Dim>& v, const Vec<Dim>& v_wall, const Vec<Dim>& n,
-                          WallType type, Real friction) {
-  if (type == WallType::Sticky) return v_wall;
-  if (type == WallType::None) return v;
+                          ContactType type, Real friction) {
+  if (type == ContactType::Sticky) return v_wall;
+  if (type == ContactType::None) return v;
   Vec<Dim> rel = v - v_wall;
   const Real vn = rel.dot(n);
-  if (type == WallType::Separate && vn >= 0) return v;  // leaving the boundary: free
+  if (type == ContactType::Separate && vn >= 0) return v;  // leaving the boundary: free
   Vec<Dim> vt = rel - vn * n;
   if (friction > 0 && vn < 0) {
     const Real t = vt.norm();
@@ -25,32 +25,31 @@ Vec<Dim> contact_velocity(const Vec<Dim>& v, const Vec<Dim>& v_wall, const Vec<D
   return v_wall + vt;
 }
 
-ColliderState collider_state(const BoundarySpec& b, double time) {
+ColliderState collider_state(const Collider& c, double time) {
   ColliderState s;
-  s.center0 = b.shape.world_center();
-  if (time < b.start || time > b.end) return s;
+  s.center0 = c.shape.world_center();
+  if (time < c.start || time > c.end) return s;
   s.active = true;
-  const double elapsed = time - b.start;
-  s.displacement = b.velocity * elapsed;
-  const double w = b.angular_velocity.norm();
-  if (w > 0)
-    s.rotation = Eigen::AngleAxisd(w * elapsed, b.angular_velocity / w).toRotationMatrix();
+  const double elapsed = time - c.start;
+  s.displacement = c.velocity * elapsed;
+  const double w = c.angular_velocity.norm();
+  if (w > 0) s.rotation = Eigen::AngleAxisd(w * elapsed, c.angular_velocity / w).toRotationMatrix();
   return s;
 }
 
 template <int Dim>
-void apply_boundaries(SparseGrid<Dim>& grid, WallType walls,
-                      const std::vector<BoundarySpec>& boundaries, double time) {
+void apply_colliders(SparseGrid<Dim>& grid, ContactType walls,
+                     const std::vector<Collider>& colliders, double time) {
   std::vector<ColliderState> states;
-  for (const BoundarySpec& b : boundaries) states.push_back(collider_state(b, time));
+  for (const Collider& col : colliders) states.push_back(collider_state(col, time));
   // World boxes around the moved colliders: nodes outside skip the signed distance (the boxes
   // are a little larger than the shapes, so no node inside is skipped; half-spaces: no box).
   std::vector<std::pair<Vec3d, Vec3d>> boxes;
-  for (size_t c = 0; c < boundaries.size(); ++c) {
+  for (size_t c = 0; c < colliders.size(); ++c) {
     Vec3d lo = Vec3d::Constant(-std::numeric_limits<double>::infinity()), hi = -lo;
-    if (boundaries[c].shape.type != Shape::Type::HalfSpace) {
+    if (colliders[c].shape.type != Shape::Type::HalfSpace) {
       Vec3d rest_lo, rest_hi;
-      boundaries[c].shape.bounds(&rest_lo, &rest_hi);
+      colliders[c].shape.bounds(&rest_lo, &rest_hi);
       const ColliderState& st = states[c];
       std::swap(lo, hi);
       for (int k = 0; k < 8; ++k) {
@@ -71,13 +70,16 @@ void apply_boundaries(SparseGrid<Dim>& grid, WallType walls,
       const int node = blk * SparseGrid<Dim>::kNodesPerBlock + l;
       if (grid.mass[node] <= 0) continue;
       Vec<Dim>& v = grid.velocity[node];
-      if (walls != WallType::None) {
+      if (walls != ContactType::None) {
         const IVec<Dim> g = grid.node_coord(node);
         for (int d = 0; d < Dim; ++d) {
           Vec<Dim> n = Vec<Dim>::Zero();
-          if (g[d] < kWallNodes) n[d] = 1;
-          else if (g[d] > n_nodes[d] - 1 - kWallNodes) n[d] = -1;
-          else continue;
+          if (g[d] < kWallNodes)
+            n[d] = 1;
+          else if (g[d] > n_nodes[d] - 1 - kWallNodes)
+            n[d] = -1;
+          else
+            continue;
           v = contact_velocity<Dim>(v, Vec<Dim>::Zero(), n, walls, 0);
         }
       }
@@ -85,30 +87,29 @@ void apply_boundaries(SparseGrid<Dim>& grid, WallType walls,
       const Vec<Dim> xi = grid.node_position(node);
       Vec3d p = Vec3d::Zero();
       p.template head<Dim>() = xi.template cast<double>();
-      for (size_t c = 0; c < boundaries.size(); ++c) {
+      for (size_t c = 0; c < colliders.size(); ++c) {
         const ColliderState& s = states[c];
         if (!s.active) continue;
-        if ((p.array() < boxes[c].first.array()).any() || (p.array() > boxes[c].second.array()).any())
+        if ((p.array() < boxes[c].first.array()).any() ||
+            (p.array() > boxes[c].second.array()).any())
           continue;
-        const BoundarySpec& b = boundaries[c];
+        const Collider& col = colliders[c];
         const Vec3d centre = s.center0 + s.displacement;
         const Vec3d q = s.center0 + s.rotation.transpose() * (p - centre);
-        if (b.shape.sdf(q) > 0) continue;
-        const Vec3d n3 = s.rotation * b.shape.normal_at(q);
-        const Vec3d vw3 = b.velocity + b.angular_velocity.cross(p - centre);
+        if (col.shape.sdf(q) > 0) continue;
+        const Vec3d n3 = s.rotation * col.shape.normal_at(q);
+        const Vec3d vw3 = col.velocity + col.angular_velocity.cross(p - centre);
         v = contact_velocity<Dim>(v, vw3.template head<Dim>().template cast<Real>(),
                                   n3.template head<Dim>().template cast<Real>().normalized(),
-                                  b.type, Real(b.friction));
+                                  col.type, Real(col.friction));
       }
     }
   });
 }
 
-template Vec<2> contact_velocity<2>(const Vec<2>&, const Vec<2>&, const Vec<2>&, WallType, Real);
-template Vec<3> contact_velocity<3>(const Vec<3>&, const Vec<3>&, const Vec<3>&, WallType, Real);
-template void apply_boundaries<2>(SparseGrid<2>&, WallType, const std::vector<BoundarySpec>&,
-                                  double);
-template void apply_boundaries<3>(SparseGrid<3>&, WallType, const std::vector<BoundarySpec>&,
-                                  double);
+template Vec<2> contact_velocity<2>(const Vec<2>&, const Vec<2>&, const Vec<2>&, ContactType, Real);
+template Vec<3> contact_velocity<3>(const Vec<3>&, const Vec<3>&, const Vec<3>&, ContactType, Real);
+template void apply_colliders<2>(SparseGrid<2>&, ContactType, const std::vector<Collider>&, double);
+template void apply_colliders<3>(SparseGrid<3>&, ContactType, const std::vector<Collider>&, double);
 
 }  // namespace tear

@@ -1,5 +1,5 @@
 // Signed distances, normals, bounds and centres of analytic shapes at known points.
-#include "tear/scene/shape.h"
+#include "tear/geometry/shape.h"
 
 #include <gtest/gtest.h>
 
