@@ -1,4 +1,3 @@
-#include "tear/grid/collider.h"
 #include "tear/grid/sparse_grid.h"
 
 #include <Eigen/Geometry>
@@ -26,14 +25,15 @@ void check_binning() {
   g.setup(Vec3d::Zero(), Vec3d::Ones(), 1.0 / 64);
   auto x = random_points<Dim>(5000, 0.3, 0.6, 3);
   g.bin(x);
-  // order() is a permutation grouped by home block, ascending inside each block.
+  // order is a permutation grouped by home block, ascending inside each block.
+  const ParticleBins<Dim>& b = g.bins(0);
   std::vector<int> seen(x.size(), 0);
-  for (auto& h : g.home_blocks())
+  for (auto& h : b.home_blocks)
     for (uint32_t k = h.begin; k < h.end; ++k) {
-      ++seen[g.order()[k]];
-      EXPECT_EQ(g.particle_slot()[g.order()[k]], h.slot);
+      ++seen[b.order[k]];
+      EXPECT_EQ(b.particle_slot[b.order[k]], h.slot);
       if (k > h.begin) {
-        EXPECT_LT(g.order()[k - 1], g.order()[k]);
+        EXPECT_LT(b.order[k - 1], b.order[k]);
       }
     }
   for (int s : seen) EXPECT_EQ(s, 1);
@@ -51,14 +51,49 @@ void check_binning() {
   }
   // Same-colour home blocks are at least two blocks apart on some axis.
   size_t total = 0;
-  for (int c = 0; c < SparseGrid<Dim>::kColours; ++c) total += g.colour(c).size();
-  EXPECT_EQ(total, g.home_blocks().size());
+  for (int c = 0; c < SparseGrid<Dim>::kColours; ++c) total += b.colours[c].size();
+  EXPECT_EQ(total, b.home_blocks.size());
   // Memory follows the occupied region: far fewer nodes than the dense 65^Dim domain.
   EXPECT_LT(g.num_active_nodes(), size_t(std::pow(65.0, Dim)) / 2);
 }
 
 TEST(SparseGrid, BinningIsAStableGroupingAndStencilsAreActive2D) { check_binning<2>(); }
 TEST(SparseGrid, BinningIsAStableGroupingAndStencilsAreActive3D) { check_binning<3>(); }
+
+// Several particle groups: each is binned on its own, and the active blocks are those of all of
+// them together (the same as binning every particle as one group).
+template <int Dim>
+void check_group_binning() {
+  auto a = random_points<Dim>(3000, 0.2, 0.5, 3), b = random_points<Dim>(2000, 0.45, 0.8, 4);
+  SparseGrid<Dim> two, one;
+  two.setup(Vec3d::Zero(), Vec3d::Ones(), 1.0 / 64);
+  one.setup(Vec3d::Zero(), Vec3d::Ones(), 1.0 / 64);
+  two.bin(std::vector<const std::vector<Vec<Dim>>*>{&a, &b});
+  std::vector<Vec<Dim>> all = a;
+  all.insert(all.end(), b.begin(), b.end());
+  one.bin(all);
+  ASSERT_EQ(two.num_groups(), 2u);
+  EXPECT_EQ(two.num_active_nodes(), one.num_active_nodes());
+  for (int blk = 0; blk < one.num_blocks(); ++blk) {
+    const int node = blk * SparseGrid<Dim>::kNodesPerBlock;
+    EXPECT_EQ(two.node_index(one.node_coord(node)), node);
+  }
+  EXPECT_EQ(two.bins(0).order.size(), a.size());
+  EXPECT_EQ(two.bins(1).order.size(), b.size());
+  for (size_t i = 0; i < b.size(); ++i)
+    EXPECT_EQ(two.bins(1).particle_slot[i], one.bins(0).particle_slot[a.size() + i]);
+  // near_hot_blocks sees across groups: a hot block of group 0 makes group 1's neighbours near.
+  std::vector<std::vector<char>> hot = {std::vector<char>(two.bins(0).home_blocks.size(), 1),
+                                        std::vector<char>(two.bins(1).home_blocks.size(), 0)};
+  const auto near = two.near_hot_blocks(hot);
+  size_t near1 = 0;
+  for (char c : near[1]) near1 += c;
+  EXPECT_GT(near1, 0u);
+  EXPECT_LT(near1, near[1].size());
+}
+
+TEST(SparseGrid, GroupsAreBinnedApartOverOneActivation2D) { check_group_binning<2>(); }
+TEST(SparseGrid, GroupsAreBinnedApartOverOneActivation3D) { check_group_binning<3>(); }
 
 TEST(SparseGrid, StencilWeightsReproduceConstantsLinesAndTheMlsInertia) {
   SparseGrid<3> g;
@@ -88,115 +123,6 @@ TEST(SparseGrid, StencilWeightsReproduceConstantsLinesAndTheMlsInertia) {
       EXPECT_LT((swxx - Mat<3>::Identity() * (0.05 * 0.05 / inv_d)).norm(), 1e-15);
     }
   }
-}
-
-TEST(Boundary, StickyTakesTheWallVelocity) {
-  const Vec<2> v(1, -2), vw(0.5, 0), n(0, 1);
-  EXPECT_EQ(contact_velocity<2>(v, vw, n, ContactType::Sticky, 0), vw);
-}
-
-TEST(Boundary, SlipRemovesNormalRelativeVelocityBothWays) {
-  const Vec<2> n(0, 1);
-  EXPECT_TRUE(contact_velocity<2>(Vec<2>(1, -2), Vec<2>::Zero(), n, ContactType::Slip, 0)
-                  .isApprox(Vec<2>(1, 0)));
-  EXPECT_TRUE(contact_velocity<2>(Vec<2>(1, 2), Vec<2>::Zero(), n, ContactType::Slip, 0)
-                  .isApprox(Vec<2>(1, 0)));
-}
-
-TEST(Boundary, SeparateOnlyStopsApproachAndFrictionSlowsTangent) {
-  const Vec<2> n(0, 1);
-  EXPECT_EQ(contact_velocity<2>(Vec<2>(1, 2), Vec<2>::Zero(), n, ContactType::Separate, 0.5),
-            Vec<2>(1, 2));
-  // |v_t| = 1, |v_n| = 1, mu = 0.5: tangential speed drops to 0.5.
-  EXPECT_TRUE(contact_velocity<2>(Vec<2>(1, -1), Vec<2>::Zero(), n, ContactType::Separate, 0.5)
-                  .isApprox(Vec<2>(0.5, 0)));
-  // mu large enough: the tangent stops.
-  EXPECT_TRUE(contact_velocity<2>(Vec<2>(1, -1), Vec<2>::Zero(), n, ContactType::Separate, 2)
-                  .isZero());
-}
-
-TEST(Boundary, ColliderMovesOnlyDuringItsWindow) {
-  Collider b;
-  b.velocity = Vec3d(1, 0, 0);
-  b.start = 1, b.end = 2;
-  EXPECT_FALSE(collider_state(b, 0.5).active);
-  const ColliderState s = collider_state(b, 1.5);
-  EXPECT_TRUE(s.active);
-  EXPECT_TRUE(s.displacement.isApprox(Vec3d(0.5, 0, 0)));
-  EXPECT_FALSE(collider_state(b, 2.5).active);
-}
-
-// Every active node of a grid over [0.2, 0.8]^2 with unit mass and velocity `v`.
-SparseGrid<2> filled_grid(const Vec<2>& v) {
-  SparseGrid<2> g;
-  g.setup(Vec3d::Zero(), Vec3d::Ones(), 1.0 / 32);
-  g.bin(random_points<2>(4000, 0.2, 0.8, 7));
-  for (size_t i = 0; i < g.mass.size(); ++i) g.mass[i] = 1, g.velocity[i] = v;
-  return g;
-}
-
-TEST(Boundary, SpinningStickyColliderImposesRigidVelocity) {
-  SparseGrid<2> g = filled_grid(Vec<2>(3, 3));
-  Collider b;
-  b.type = ContactType::Sticky;
-  b.shape.type = Shape::Type::Box;
-  b.shape.dim = 2;
-  b.shape.min = Vec3d(0.4, 0.4, 0);
-  b.shape.max = Vec3d(0.6, 0.6, 0);
-  b.velocity = Vec3d(0.1, 0, 0);
-  b.angular_velocity = Vec3d(0, 0, 2);
-  const double t = 0.25;  // moved by 0.025 and turned by 0.5 rad about its centre
-  apply_colliders<2>(g, ContactType::None, {b}, t);
-  const Vec3d centre(0.5 + 0.1 * t, 0.5, 0);
-  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.5, Vec3d::UnitZ()).toRotationMatrix();
-  int inside = 0, outside = 0;
-  for (size_t i = 0; i < g.mass.size(); ++i) {
-    const Vec<2> x = g.node_position(int(i));
-    const Vec3d local = R.transpose() * (Vec3d(x[0], x[1], 0) - centre);
-    const bool in = local.head<2>().cwiseAbs().maxCoeff() < 0.1 - 1e-9;
-    const bool out = local.head<2>().cwiseAbs().maxCoeff() > 0.1 + 1e-9;
-    if (in) {
-      const Vec3d rigid = b.velocity + b.angular_velocity.cross(Vec3d(x[0], x[1], 0) - centre);
-      EXPECT_LT((g.velocity[i] - rigid.head<2>()).norm(), 1e-12);
-      ++inside;
-    } else if (out) {
-      EXPECT_EQ(g.velocity[i], Vec<2>(3, 3));
-      ++outside;
-    }
-  }
-  EXPECT_GT(inside, 20);
-  EXPECT_GT(outside, 100);
-}
-
-TEST(Boundary, HalfSpaceAndDomainWallsStopApproachingNodes) {
-  SparseGrid<2> g = filled_grid(Vec<2>(0.5, -1));
-  Collider floor;
-  floor.type = ContactType::Separate;
-  floor.friction = 0.25;
-  floor.shape.type = Shape::Type::HalfSpace;
-  floor.shape.dim = 2;
-  floor.shape.point = Vec3d(0, 0.5, 0);
-  floor.shape.normal = Vec3d(0, 1, 0);
-  apply_colliders<2>(g, ContactType::Sticky, {floor}, 0);
-  int wall = 0, below = 0, above = 0;
-  for (size_t i = 0; i < g.mass.size(); ++i) {
-    const Vec<2> x = g.node_position(int(i));
-    const IVec<2> c = g.node_coord(int(i));
-    if (c.minCoeff() < kWallNodes || c.maxCoeff() > g.num_nodes().maxCoeff() - 1 - kWallNodes) {
-      EXPECT_TRUE(g.velocity[i].isZero());  // sticky domain wall
-      ++wall;
-    } else if (x[1] < 0.5 - 1e-9) {
-      // Inside the floor: normal part removed, tangent reduced by friction * |v_n| = 0.25.
-      EXPECT_LT((g.velocity[i] - Vec<2>(0.25, 0)).norm(), 1e-12) << g.velocity[i].transpose();
-      ++below;
-    } else if (x[1] > 0.5 + 1e-9) {
-      EXPECT_EQ(g.velocity[i], Vec<2>(0.5, -1));
-      ++above;
-    }
-  }
-  EXPECT_GT(wall, 50);
-  EXPECT_GT(below, 100);
-  EXPECT_GT(above, 100);
 }
 
 }  // namespace

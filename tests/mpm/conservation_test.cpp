@@ -1,20 +1,21 @@
 #include "mpm_test_util.h"
 
 #include <gtest/gtest.h>
-#include <tbb/global_control.h>
+#include "tear/exec/threads.h"
 
 #include <cmath>
 #include <cstdio>
 
 namespace tear {
 namespace {
+using testing::MpmSim;
 
 using testing::basic_scene;
 using testing::lattice_block;
 
 // A spinning, translating elastic block in free flight (no gravity, no walls).
 template <int Dim>
-MpmSolver<Dim> spinning_block(Transfer transfer) {
+MpmSim<Dim> spinning_block(Transfer transfer) {
   Scene s = basic_scene(Dim, 0.05, Vec3d::Zero(), Vec3d::Constant(2.0), Model::QrAniso, 1e3,
                         0.3, 1, 3);
   s.transfer = transfer;
@@ -35,12 +36,12 @@ MpmSolver<Dim> spinning_block(Transfer transfer) {
       D = Eigen::AngleAxis<Real>(Real(0.4), Vec<3>(1, 2, 3).normalized()).toRotationMatrix();
     }
   }
-  return MpmSolver<Dim>(s, std::move(p));
+  return MpmSim<Dim>(s, std::move(p));
 }
 
 template <int Dim>
 void check_apic_conservation() {
-  MpmSolver<Dim> sim = spinning_block<Dim>(Transfer::Apic);
+  MpmSim<Dim> sim = spinning_block<Dim>(Transfer::Apic);
   const double m0 = sim.total_mass();
   const Vec3d P0 = sim.momentum(), L0 = sim.angular_momentum();
   for (int i = 0; i < 100; ++i) sim.step(sim.estimate_dt());
@@ -57,7 +58,7 @@ TEST(Apic, ConservesLinearAndAngularMomentum2D) { check_apic_conservation<2>(); 
 TEST(Apic, ConservesLinearAndAngularMomentum3D) { check_apic_conservation<3>(); }
 
 TEST(Pic, ConservesLinearMomentumButDissipatesRotation) {
-  MpmSolver<2> sim = spinning_block<2>(Transfer::Pic);
+  MpmSim<2> sim = spinning_block<2>(Transfer::Pic);
   const Vec3d P0 = sim.momentum(), L0 = sim.angular_momentum();
   for (int i = 0; i < 100; ++i) sim.step(sim.estimate_dt());
   EXPECT_LT((sim.momentum() - P0).norm() / sim.total_mass(), 1e-12);
@@ -66,7 +67,7 @@ TEST(Pic, ConservesLinearMomentumButDissipatesRotation) {
 }
 
 TEST(Flip, ConservesLinearMomentum) {
-  MpmSolver<3> sim = spinning_block<3>(Transfer::Flip);
+  MpmSim<3> sim = spinning_block<3>(Transfer::Flip);
   const Vec3d P0 = sim.momentum();
   for (int i = 0; i < 50; ++i) sim.step(sim.estimate_dt());
   EXPECT_LT((sim.momentum() - P0).norm() / sim.total_mass(), 1e-12);
@@ -86,7 +87,7 @@ double flip_noise_left(double dt, double ratio, double relaxation_time, double t
     const long k = std::lround(std::floor(x[0] / h) + std::floor(x[1] / h));
     return Vec<2>(0, k % 2 ? Real(0.3) : Real(-0.3));
   };
-  MpmSolver<2> sim(s, lattice_block<2>(s, Vec<2>(0.7, 0.7), Vec<2>(1.2, 1.2), 2, vel));
+  MpmSim<2> sim(s, lattice_block<2>(s, Vec<2>(0.7, 0.7), Vec<2>(1.2, 1.2), 2, vel));
   const double e0 = sim.kinetic_energy();
   while (sim.time() < t_end * (1 - 1e-9)) sim.step(std::min(dt, t_end - sim.time()));
   return sim.kinetic_energy() / e0;
@@ -111,7 +112,7 @@ TEST(Flip, RelaxationTimeMakesTheBlendIndependentOfTheStep) {
 }
 
 TEST(P2G, GridMassEqualsParticleMass) {
-  MpmSolver<3> sim = spinning_block<3>(Transfer::Apic);
+  MpmSim<3> sim = spinning_block<3>(Transfer::Apic);
   sim.step(1e-4);
   double grid_mass = 0;
   for (size_t i = 0; i < sim.grid().num_active_nodes(); ++i) grid_mass += sim.grid().mass[i];
@@ -120,7 +121,7 @@ TEST(P2G, GridMassEqualsParticleMass) {
 
 template <int Dim>
 std::vector<Real> run_state(int threads) {
-  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+  const ThreadLimit limit(threads);
   Scene s = basic_scene(Dim, 0.05, Vec3d::Zero(), Vec3d::Constant(2.0), Model::QrAniso, 1e3,
                         0.3, 1, 3);
   s.walls = ContactType::Separate;
@@ -128,7 +129,7 @@ std::vector<Real> run_state(int threads) {
   Particles<Dim> p = lattice_block<Dim>(s, Vec<Dim>::Constant(Real(0.2)),
                                         Vec<Dim>::Constant(Real(0.9)), 2,
                                         [](const Vec<Dim>& x) { return Vec<Dim>(x * 2); });
-  MpmSolver<Dim> sim(s, std::move(p));
+  MpmSim<Dim> sim(s, std::move(p));
   for (int i = 0; i < 60; ++i) sim.step(sim.estimate_dt());
   std::vector<Real> out;
   for (size_t i = 0; i < sim.particles().size(); ++i) {
@@ -151,7 +152,7 @@ namespace {
 
 TEST(Stability, BlowUpIsReportedAsAnErrorNotACrash) {
   // Steps 50x over the CFL limit blow up; the next binning must say so with a clear error.
-  MpmSolver<2> sim = spinning_block<2>(Transfer::Apic);
+  MpmSim<2> sim = spinning_block<2>(Transfer::Apic);
   const double dt = 50 * sim.estimate_dt();
   try {
     for (int i = 0; i < 2000; ++i) sim.step(dt);

@@ -2,7 +2,7 @@
 // bottom and pulled apart tears along its fibers when they are at +-45 degrees (alpha = -1)
 // and straight across the pull when it is isotropic. The angle is the principal axis of the
 // rest positions of the cracked particles (d > 0.5, unweighted) connected to the slit tip.
-#include "tear/mpm/solver.h"
+#include "mpm_test_util.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -13,6 +13,7 @@
 
 namespace tear {
 namespace {
+using testing::MpmSim;
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDx = 1.0 / 64;
@@ -114,7 +115,7 @@ Crack principal_axis(const std::vector<Vec<2>>& X, const std::vector<char>& in) 
 // crossed the block. It is measured in rest positions (material space).
 Crack tear_slit_block(const std::string& solver, double fiber_degrees, bool isotropic) {
   constexpr double kTime = 0.3;
-  MpmSolver<2> sim(slit_block(solver, fiber_degrees, isotropic));
+  MpmSim<2> sim(slit_block(solver, fiber_degrees, isotropic));
   const Particles<2>& p = sim.particles();
   const size_t n = p.size();
   std::vector<Real> damage(n, 0);  // by id

@@ -3,7 +3,6 @@
 // crack), the explicit step limit, and the regularised profile exp(-|x| / l0) of paper
 // Fig. 8 around a crack held open.
 #include "mpm_test_util.h"
-#include "tear/mpm/solver.h"
 #include "tear/scene/sampling.h"
 
 #include <gtest/gtest.h>
@@ -15,6 +14,7 @@
 
 namespace tear {
 namespace {
+using testing::MpmSim;
 
 using testing::basic_scene;
 using testing::lattice_block;
@@ -26,7 +26,7 @@ Scene held_scene(const std::string& solver, double eta, double dx) {
   s.damage.solver = solver == "explicit" ? DamageSolver::Explicit : DamageSolver::Implicit;
   s.damage.l0 = 0.5 * dx;
   s.damage.zeta = 1;
-  DamageSpec& d = s.materials[0].damage;
+  DamageParams& d = s.materials[0].damage;
   d.enabled = true;
   d.sigma_c = 10;
   d.eta = eta;
@@ -69,7 +69,7 @@ BandResult crack_a_band(const std::string& solver, double eta, bool random, doub
   // Remember band membership by id: the solver reorders particles.
   std::vector<char> in_by_id(p.size());
   for (size_t i = 0; i < p.size(); ++i) in_by_id[p.id[i]] = in[i];
-  MpmSolver<2> sim(s, std::move(p));
+  MpmSim<2> sim(s, std::move(p));
   for (int k = 0; k < steps; ++k) sim.damage_step(dt);
   const Particles<2>& q = sim.particles();
   for (size_t i = 0; i < q.size(); ++i) {
@@ -114,7 +114,7 @@ TEST(HeldDamage, ExplicitStepLimitFollowsTheDrivingForce) {
   const Scene s = held_scene("explicit", eta, dx);
   Particles<2> p = held_particles(s, false);
   for (size_t i = 0; i < p.size(); ++i) p.F[i](0, 0) = Real(1.2);  // D = 5.6 everywhere
-  MpmSolver<2> sim(s, std::move(p));
+  MpmSim<2> sim(s, std::move(p));
   EXPECT_NEAR(sim.damage_dt_limit(), eta / 3, 1e-15);       // no driving force yet
   EXPECT_NEAR(sim.damage_dt_limit(true), eta / 102, 1e-15);  // while cracks grow
   sim.damage_step(0);                                        // the driving force history
@@ -131,7 +131,7 @@ TEST(HeldDamage, ExplicitStepLimitFollowsTheDrivingForce) {
   for (size_t i = 0; i < sim.particles().size(); ++i) sim.particles().damage[i] = 1;
   EXPECT_NEAR(sim.damage_dt_limit(), eta / 3, 1e-15);
   // The implicit solver has no limit.
-  EXPECT_TRUE(std::isinf(MpmSolver<2>(held_scene("implicit", eta, dx),
+  EXPECT_TRUE(std::isinf(MpmSim<2>(held_scene("implicit", eta, dx),
                                       held_particles(s, false))
                              .damage_dt_limit()));
 }
@@ -146,7 +146,7 @@ TEST(HeldDamage, ExplicitDamageWithinItsLimitNeedsNoHandTunedStep) {
     Particles<2> p = held_particles(s, true);
     for (size_t i = 0; i < p.size(); ++i)
       p.F[i](0, 0) = Real(1 + std::exp(-std::pow((p.x[i][0] - 0.5) / 0.05, 2)));
-    MpmSolver<2> sim(s, std::move(p));
+    MpmSim<2> sim(s, std::move(p));
     sim.damage_step(0);
     while (sim.time() < T * (1 - 1e-12)) {
       const double dt = std::min(fixed_dt > 0 ? fixed_dt : sim.estimate_dt(), T - sim.time());
@@ -191,7 +191,7 @@ Profile held_crack_profile(double l0, double dx, double half_width) {
                                     [](const Vec<2>&) { return Vec<2>::Zero(); });
   for (size_t i = 0; i < p.size(); ++i)
     if (std::abs(p.x[i][0] - x0) < half_width + dx / 10) p.F[i](0, 0) = Real(4);  // D ~ 1e4
-  MpmSolver<2> sim(s, std::move(p));
+  MpmSim<2> sim(s, std::move(p));
   sim.damage_step(1e-3);
   EXPECT_EQ(sim.damage_stats().unconverged, 0);
   double sxx = 0, sxy = 0, n = 0, sx = 0, sy = 0;

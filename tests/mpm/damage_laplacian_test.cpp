@@ -4,7 +4,6 @@
 // driving force, an explicit update is d <- d + dt/eta (l0^2 Lap d - d) wherever that is
 // positive, so Lap d can be read back from the change of d.
 #include "mpm_test_util.h"
-#include "tear/mpm/solver.h"
 
 #include <gtest/gtest.h>
 
@@ -12,6 +11,7 @@
 
 namespace tear {
 namespace {
+using testing::MpmSim;
 
 using testing::basic_scene;
 using testing::lattice_block;
@@ -26,7 +26,7 @@ std::pair<double, int> laplacian_error(double dx, Field f, Laplacian lap) {
   Scene s = basic_scene(Dim, dx, Vec3d::Zero(), Vec3d::Ones(), Model::QrAniso, 100, 0.25, 1);
   s.damage.solver = DamageSolver::Explicit;
   s.damage.l0 = kL0;
-  DamageSpec& d = s.materials[0].damage;
+  DamageParams& d = s.materials[0].damage;
   d.enabled = true;
   d.sigma_c = 1e9;  // no driving force: F stays the identity anyway
   d.eta = kEta;
@@ -35,7 +35,7 @@ std::pair<double, int> laplacian_error(double dx, Field f, Laplacian lap) {
                                         Vec<Dim>::Constant(Real(0.75)), 2,
                                         [](const Vec<Dim>&) { return Vec<Dim>::Zero(); });
   for (size_t i = 0; i < p.size(); ++i) p.damage[i] = Real(f(p.x[i]));
-  MpmSolver<Dim> sim(s, std::move(p));
+  MpmSim<Dim> sim(s, std::move(p));
   std::vector<Real> before(sim.particles().damage);
   std::vector<uint32_t> id_before(sim.particles().id);
   std::vector<Real> d0(before.size());

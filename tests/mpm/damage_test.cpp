@@ -2,17 +2,17 @@
 // without damage, the analytic uniform solution, explicit/implicit agreement, eta -> 0,
 // CG iteration counts, determinism.
 #include "mpm_test_util.h"
-#include "tear/mpm/solver.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
-#include <tbb/global_control.h>
+#include "tear/exec/threads.h"
 
 #include <cmath>
 #include <cstdio>
 
 namespace tear {
 namespace {
+using testing::MpmSim;
 
 using testing::basic_scene;
 using testing::lattice_block;
@@ -53,7 +53,7 @@ struct PulledRun {
 // Steps the pulled blocks, asserting after every step that damage and history never
 // decrease, stay in [0, 1] and finite, and that the plain block stays undamaged.
 PulledRun run_pulled(const std::string& solver, double eta, int steps) {
-  MpmSolver<2> sim(pulled_blocks(solver, eta));
+  MpmSim<2> sim(pulled_blocks(solver, eta));
   const size_t n = sim.particles().size();
   std::vector<Real> d_prev(n, 0), h_prev(n, 0);
   PulledRun out;
@@ -134,7 +134,7 @@ Scene pulled_block_3d(const std::string& solver) {
 
 TEST(Damage3D, BothSolversCrackTheBlockBoundedAndMonotone) {
   for (const char* solver : {"explicit", "implicit"}) {
-    MpmSolver<3> sim(pulled_block_3d(solver));
+    MpmSim<3> sim(pulled_block_3d(solver));
     const size_t n = sim.particles().size();
     std::vector<Real> d_prev(n, 0);
     for (int step = 0; step < 300; ++step) {
@@ -164,7 +164,7 @@ TEST(Damage3D, BothSolversCrackTheBlockBoundedAndMonotone) {
 // A lattice block of damageable qr_aniso held still with F = diag(stretch(x), 1): a
 // prescribed driving force.
 template <class Stretch>
-MpmSolver<2> held_block(const std::string& solver, double eta, double l0, Stretch stretch,
+MpmSim<2> held_block(const std::string& solver, double eta, double l0, Stretch stretch,
                         double dx = 1.0 / 32) {
   Scene s = basic_scene(2, dx, Vec3d::Zero(), Vec3d(1, 1, 0), Model::QrAniso, 100, 0.25,
                         2);
@@ -172,7 +172,7 @@ MpmSolver<2> held_block(const std::string& solver, double eta, double l0, Stretc
   s.damage.l0 = l0;
   s.damage.zeta = 1;
   s.damage.tolerance = 1e-12;
-  DamageSpec& d = s.materials[0].damage;
+  DamageParams& d = s.materials[0].damage;
   d.enabled = true;
   d.sigma_c = 27;
   d.eta = eta;
@@ -180,11 +180,11 @@ MpmSolver<2> held_block(const std::string& solver, double eta, double l0, Stretc
   Particles<2> p = lattice_block<2>(s, Vec<2>(0.25, 0.25), Vec<2>(0.75, 0.75), 2,
                                     [](const Vec<2>&) { return Vec<2>::Zero(); });
   for (size_t i = 0; i < p.size(); ++i) p.F[i](0, 0) = Real(stretch(p.x[i]));
-  return MpmSolver<2>(s, std::move(p));
+  return MpmSim<2>(s, std::move(p));
 }
 
 // Runs the damage update alone for `steps` steps up to time T; damage by particle id.
-std::vector<Real> damage_after(MpmSolver<2> sim, double T, int steps) {
+std::vector<Real> damage_after(MpmSim<2> sim, double T, int steps) {
   for (int k = 0; k < steps; ++k) sim.damage_step(T / steps);
   std::vector<Real> d(sim.particles().size());
   for (size_t i = 0; i < d.size(); ++i) d[sim.particles().id[i]] = sim.particles().damage[i];
@@ -197,7 +197,7 @@ TEST(ImplicitDamage, UniformDrivingForceFollowsTheBackwardEulerOde) {
   // order in dt (forward and backward Euler).
   const double eta = 0.05, T = 0.1;
   auto all = [](const Vec<2>&) { return 1.3; };
-  MpmSolver<2> probe = held_block("implicit", eta, 1.0 / 64, all);
+  MpmSim<2> probe = held_block("implicit", eta, 1.0 / 64, all);
   probe.damage_step(0);  // fills the history with the driving force
   const double D = probe.particles().drive[0];
   ASSERT_GT(D, 1);
@@ -229,7 +229,7 @@ TEST(ImplicitDamage, TendsToExplicitAsTheTimeStepShrinks) {
   // semi-discrete law (forward and backward Euler), so their difference is the time error
   // alone: it halves as dt halves, whatever the grid. Backward Euler with a few large steps
   // stays close to the converged profile; forward Euler with steps beyond its limit
-  // (MpmSolver::damage_dt_limit) does not.
+  // (damage_dt_limit, damage/phase_field.h) does not.
   const double eta = 0.05, T = 0.08, l0 = 0.05, dx = 1.0 / 64;
   auto bump = [](const Vec<2>& x) {
     return 1 + 0.3 * std::exp(-std::pow((x[0] - 0.5) / 0.1, 2));
@@ -239,7 +239,7 @@ TEST(ImplicitDamage, TendsToExplicitAsTheTimeStepShrinks) {
     for (size_t i = 0; i < a.size(); ++i) m = std::max(m, std::abs(double(a[i] - b[i])));
     return m;
   };
-  MpmSolver<2> probe = held_block("explicit", eta, l0, bump, dx);
+  MpmSim<2> probe = held_block("explicit", eta, l0, bump, dx);
   probe.damage_step(0);  // fills the driving force history
   const double limit = probe.damage_dt_limit();
   const int fewest = int(std::ceil(T / limit));  // explicit steps within the limit
@@ -268,8 +268,8 @@ TEST(ImplicitDamage, TendsToExplicitAsTheTimeStepShrinks) {
 }
 
 std::vector<Real> implicit_state(int threads) {
-  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-  MpmSolver<2> sim(pulled_blocks("implicit", 0.1));
+  const ThreadLimit limit(threads);
+  MpmSim<2> sim(pulled_blocks("implicit", 0.1));
   for (int k = 0; k < 300; ++k) sim.step(sim.estimate_dt());
   std::vector<Real> out(sim.particles().damage);
   out.push_back(Real(sim.damage_stats().iterations));

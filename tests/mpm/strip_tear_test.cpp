@@ -4,7 +4,7 @@
 // as dt and dx shrink. And a 3D tube whose bands stay sharp. Crack figures are measured in
 // rest space (damage/crack_metrics.h).
 #include "tear/damage/crack_metrics.h"
-#include "tear/mpm/solver.h"
+#include "mpm_test_util.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -16,6 +16,7 @@
 
 namespace tear {
 namespace {
+using testing::MpmSim;
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -64,7 +65,7 @@ nlohmann::json with(nlohmann::json doc, const std::string& solver, double eta) {
 template <int Dim>
 std::vector<CrackFigures> tear(const Scene& scene, std::vector<int> frames,
                                const std::string& label, std::vector<Vec3d>* cracked = nullptr) {
-  MpmSolver<Dim> sim(scene);
+  MpmSim<Dim> sim(scene);
   const Particles<Dim>& p = sim.particles();
   const size_t n = p.size();
   std::vector<Vec3d> rest(n, Vec3d::Zero());

@@ -10,6 +10,7 @@
 
 namespace tear {
 namespace {
+using testing::MpmSim;
 
 using testing::basic_scene;
 using testing::lattice_block;
@@ -35,7 +36,7 @@ double measured_frequency(Model model, double fiber_scale) {
   };
   Particles<2> p = lattice_block<2>(s, Vec<2>(Real(x0), Real(0.2)),
                                     Vec<2>(Real(x0 + L), Real(0.2 + 4 * dx)), 2, vel);
-  MpmSolver<2> sim(s, std::move(p));
+  MpmSim<2> sim(s, std::move(p));
   auto mean_v = [&] {
     double m = 0;
     for (size_t i = 0; i < sim.particles().size(); ++i) m += sim.particles().v[i][0];

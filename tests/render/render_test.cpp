@@ -3,7 +3,7 @@
 #include "tear/render/render.h"
 
 #include <gtest/gtest.h>
-#include <tbb/global_control.h>
+#include "tear/exec/threads.h"
 
 #include <cmath>
 #include <cstring>
@@ -81,11 +81,11 @@ TEST(Render, SamePngBytesTwiceAndForAnyThreadCount) {
   Renderer renderer;
   std::string one, two, again;
   {
-    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    const ThreadLimit limit(1);
     one = encode_png(renderer.render(frame, look, stage, s, "FRAME 3"));
   }
   {
-    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+    const ThreadLimit limit(2);
     two = encode_png(renderer.render(frame, look, stage, s, "FRAME 3"));
     again = encode_png(Renderer().render(frame, look, stage, s, "FRAME 3"));
   }

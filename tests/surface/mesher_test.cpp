@@ -3,7 +3,7 @@
 #include "tear/surface/mesher.h"
 
 #include <gtest/gtest.h>
-#include <tbb/global_control.h>
+#include "tear/exec/threads.h"
 
 #include <Eigen/Geometry>
 #include <cmath>
@@ -199,11 +199,11 @@ TEST(Mesher, SameBytesForOneAndTwoThreads) {
   const PointTable t = b.table();
   std::string one, two;
   {
-    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    const ThreadLimit limit(1);
     one = encode_mesh_ply(mesh_particles(t, MeshOptions{}));
   }
   {
-    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+    const ThreadLimit limit(2);
     two = encode_mesh_ply(mesh_particles(t, MeshOptions{}));
   }
   EXPECT_GT(one.size(), 100000u);

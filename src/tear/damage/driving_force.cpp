@@ -113,11 +113,8 @@ namespace {
 // eigenvalues of A lie within [1 + sum_k min(alpha_k, 0) |a_k|^2, 1 + sum_k max(alpha_k, 0)
 // |a_k|^2] (each alpha_k b_k b_k^T is semi-definite with trace alpha_k |a_k|^2; R keeps lengths).
 template <int Dim>
-Real phi_of_particle(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D,
-                     const Real alpha[2], Real sigma_c, bool excess, Mat<Dim>* piola) {
-  const Mat<Dim> P = first_piola<Dim>(m, F, D);
-  if (piola) *piola = P;
-  const Real J = F.determinant();
+Real phi_of_particle(const Mat<Dim>& P, Real J, const Mat<Dim>& F, const Mat<Dim>& D,
+                     const Real alpha[2], Real sigma_c, bool excess) {
   if (J <= 0) return 0;
   const Real inv_sc2 = 1 / (sigma_c * sigma_c);
   const bool fibers = alpha[0] != 0 || alpha[1] != 0;
@@ -159,13 +156,14 @@ Real phi_of_particle(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>&
 template <int Dim>
 Real particle_phi(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D,
                   const Real alpha[2], Real sigma_c) {
-  return phi_of_particle<Dim>(m, F, D, alpha, sigma_c, false, nullptr);
+  return phi_of_particle<Dim>(first_piola<Dim>(m, F, D), F.determinant(), F, D, alpha, sigma_c,
+                              false);
 }
 
 template <int Dim>
-Real particle_phi_excess(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D,
-                         const Real alpha[2], Real sigma_c, Mat<Dim>* piola) {
-  return phi_of_particle<Dim>(m, F, D, alpha, sigma_c, true, piola);
+Real phi_excess(const Mat<Dim>& P, Real J, const Mat<Dim>& F, const Mat<Dim>& D,
+                const Real alpha[2], Real sigma_c) {
+  return phi_of_particle<Dim>(P, J, F, D, alpha, sigma_c, true);
 }
 
 template <int Dim>
@@ -204,9 +202,9 @@ template Real crack_onset_stretch<2>(const MaterialParams&, const Mat<2>&, const
                                      const Vec<2>&, Real);
 template Real crack_onset_stretch<3>(const MaterialParams&, const Mat<3>&, const Real[2], Real,
                                      const Vec<3>&, Real);
-template Real particle_phi_excess<2>(const MaterialParams&, const Mat<2>&, const Mat<2>&,
-                                     const Real[2], Real, Mat<2>*);
-template Real particle_phi_excess<3>(const MaterialParams&, const Mat<3>&, const Mat<3>&,
-                                     const Real[2], Real, Mat<3>*);
+template Real phi_excess<2>(const Mat<2>&, Real, const Mat<2>&, const Mat<2>&, const Real[2],
+                            Real);
+template Real phi_excess<3>(const Mat<3>&, Real, const Mat<3>&, const Mat<3>&, const Real[2],
+                            Real);
 
 }  // namespace tear

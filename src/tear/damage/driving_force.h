@@ -1,6 +1,6 @@
 // damage/: the anisotropic crack driving force of AnisoMPM (paper §3, EQUATIONS.md §1) and
 // the degradation function. Pure functions of F, the fiber frame and the damage parameters;
-// the grid-side damage solvers live in mpm/.
+// the phase-field solvers over particles and grid are in damage/phase_field.h.
 #pragma once
 
 #include "tear/materials/material.h"
@@ -33,12 +33,12 @@ template <int Dim>
 Real particle_phi(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D,
                   const Real alpha[2], Real sigma_c);
 
-// max(Phi - 1, 0), the particle's drive before the slope zeta: the value particle_phi gives,
-// but skipping the tensile part and the rotation when a bound shows Phi <= 1. When `piola` is
-// given it receives the undegraded first_piola(m, F, D) computed on the way (bit for bit).
+// max(Phi - 1, 0), the particle's drive before the slope zeta, from its undegraded first Piola
+// stress P and J = det F (the constitutive phase's): the value particle_phi gives, but
+// skipping the tensile part and the rotation when a bound shows Phi <= 1.
 template <int Dim>
-Real particle_phi_excess(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D,
-                         const Real alpha[2], Real sigma_c, Mat<Dim>* piola = nullptr);
+Real phi_excess(const Mat<Dim>& P, Real J, const Mat<Dim>& F, const Mat<Dim>& D,
+                const Real alpha[2], Real sigma_c);
 
 // Where cracking starts, for choosing sigma_c: the stretch 1 + e of the uniaxial strain
 // F = I + e n n^T (the other directions held) at which a particle with rest fiber frame D

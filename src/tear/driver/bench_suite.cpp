@@ -1,8 +1,11 @@
 #include "tear/driver/bench_suite.h"
 
-#include "tear/mpm/solver.h"
+#include "tear/exec/domain.h"
+#include "tear/mpm/explicit_step.h"
+#include "tear/mpm/time_step.h"
+#include "tear/scene/sampling.h"
 
-#include <tbb/global_control.h>
+#include "tear/exec/threads.h"
 
 #include <chrono>
 #include <cmath>
@@ -15,6 +18,18 @@ using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
+// The benchmark block's settings and state, stepped by the explicit integrator.
+struct BenchRun {
+  explicit BenchRun(const Scene& s)
+      : settings(mpm_settings(s)), state(make_mpm_state<3>(settings, {sample_scene<3>(s)})) {}
+  double estimate_dt() const { return dt_limits(settings, state, domain).dt(); }
+  void step(double dt) { explicit_step(settings, &state, dt, &record, domain); }
+  MpmSettings settings;
+  MpmState<3> state;
+  StepRecord record;
+  LocalDomain domain;
+};
+
 }  // namespace
 
 nlohmann::json bench_stress(long evaluations) {
@@ -80,21 +95,24 @@ static Scene bench_block_scene(long particles) {
 }
 
 nlohmann::json bench_step(long particles, int steps, int threads) {
-  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+  const ThreadLimit limit(threads);
   const Scene s = bench_block_scene(particles);
-  MpmSolver<3> sim(s);
+  BenchRun sim(s);
   const double dt = sim.estimate_dt();  // fixed, so every thread count does the same work
   sim.step(dt);  // warm-up: first binning, allocation
-  const PhaseTimes before = sim.phase_times();
+  const PhaseTimes before = sim.record.times;
   const auto t0 = Clock::now();
   for (int i = 0; i < steps; ++i) sim.step(dt);
   const double wall = since(t0);
-  const PhaseTimes& after = sim.phase_times();
-  const double n = double(sim.particles().size());
-  nlohmann::json phases = {{"sort", after.sort - before.sort}, {"p2g", after.p2g - before.p2g},
-                           {"grid", after.grid - before.grid}, {"g2p", after.g2p - before.g2p}};
-  const size_t bytes = sim.particles().size() * Particles<3>::bytes_per_particle() +
-                       sim.grid().memory_bytes();
+  const PhaseTimes& after = sim.record.times;
+  const Particles<3>& p = sim.state.groups[0];
+  const double n = double(p.size());
+  nlohmann::json phases = {{"sort", after.sort - before.sort},
+                           {"stress", after.stress - before.stress},
+                           {"p2g", after.p2g - before.p2g},
+                           {"grid", after.grid - before.grid},
+                           {"g2p", after.g2p - before.g2p}};
+  const size_t bytes = p.memory_bytes() + sim.state.grid.memory_bytes();
   return {{"threads", threads},
           {"particles", long(n)},
           {"steps", steps},
@@ -102,16 +120,16 @@ nlohmann::json bench_step(long particles, int steps, int threads) {
           {"particle_steps_per_s", n * steps / wall},
           {"particle_steps_per_s_per_thread", n * steps / wall / threads},
           {"phase_s", phases},
-          {"active_grid_nodes", sim.grid().num_active_nodes()},
+          {"active_grid_nodes", sim.state.grid.num_active_nodes()},
           {"bytes_per_particle", double(bytes) / n}};
 }
 
 nlohmann::json bench_damage(long particles, int steps, int threads) {
-  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+  const ThreadLimit limit(threads);
   Scene s = bench_block_scene(particles);
   s.gravity = Vec3d::Zero();
   s.objects[0].angular_velocity = Vec3d::Zero();
-  DamageSpec& d = s.materials[0].damage;
+  DamageParams& d = s.materials[0].damage;
   d.enabled = true;
   d.sigma_c = 50;  // the 5% stretch below gives sigma ~ 500: Phi ~ 100 everywhere
   d.eta = 1;
@@ -123,21 +141,21 @@ nlohmann::json bench_damage(long particles, int steps, int threads) {
   double per_step[3] = {0, 0, 0};
   for (int k = 0; k < 3; ++k) {
     s.damage.solver = DamageSolver(k);
-    MpmSolver<3> sim(s);
-    for (Mat<3>& F : sim.particles().F) F(0, 0) = Real(1.05);
+    BenchRun sim(s);
+    for (Mat<3>& F : sim.state.groups[0].F) F(0, 0) = Real(1.05);
     const double dt = sim.estimate_dt();
     sim.step(dt);  // warm-up; from here on the damage field is non-zero everywhere
-    const PhaseTimes before = sim.phase_times();
-    sim.damage_stats() = DamageSolveStats();
+    const PhaseTimes before = sim.record.times;
+    sim.record.damage = DamageSolveStats();
     const auto t0 = Clock::now();
     for (int i = 0; i < steps; ++i) sim.step(dt);
     per_step[k] = since(t0) / steps;
     nlohmann::json r = {{"s_per_step", per_step[k]},
-                        {"damage_s_per_step", (sim.phase_times().damage - before.damage) / steps},
-                        {"particles", sim.particles().size()}};
+                        {"damage_s_per_step", (sim.record.times.damage - before.damage) / steps},
+                        {"particles", sim.state.groups[0].size()}};
     if (k > 0) r["cost_vs_none"] = per_step[k] / per_step[0];
     if (k == 2) {
-      const DamageSolveStats& ds = sim.damage_stats();
+      const DamageSolveStats& ds = sim.record.damage;
       r["damage_iterations_per_solve"] = ds.solves ? double(ds.iterations) / ds.solves : 0.0;
       r["damage_iterations_max"] = ds.iterations_max;
     }

@@ -14,10 +14,8 @@ int fail(std::string why, int code) {
   return code;
 }
 
-std::unique_ptr<tbb::global_control> limit_threads(int threads) {
-  if (threads <= 0) return nullptr;
-  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                               size_t(threads));
+std::unique_ptr<ThreadLimit> limit_threads(int threads) {
+  return std::make_unique<ThreadLimit>(threads);
 }
 
 std::vector<FrameFile> frames_in_range(const std::string& dir, const FrameRange& range) {

@@ -2,12 +2,11 @@
 // run folder within a --frames range, and clock-style durations for progress lines.
 #pragma once
 
-#include <tbb/global_control.h>
-
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "tear/exec/threads.h"
 #include "tear/io/frames.h"
 
 namespace tear {
@@ -15,8 +14,8 @@ namespace tear {
 // Prints "tear: reason" on stderr (line breaks become spaces) and returns `code`.
 int fail(std::string why, int code = 1);
 
-// Caps TBB at `threads` threads while the result lives; 0: no cap (all cores).
-std::unique_ptr<tbb::global_control> limit_threads(int threads);
+// Caps every parallel loop at `threads` threads while the result lives; 0: no cap (all cores).
+std::unique_ptr<ThreadLimit> limit_threads(int threads);
 
 // The frames of run folder `dir` within `range`, by frame number. Throws std::runtime_error
 // "DIR: no such folder", "DIR: no frames/ folder", or "DIR: no frames [in --frames A:B]".

@@ -3,10 +3,11 @@
 #include "tear/damage/driving_force.h"
 #include "tear/driver/command.h"
 #include "tear/driver/convert.h"
+#include "tear/exec/threads.h"
 #include "tear/io/atomic_file.h"
 #include "tear/io/frames.h"
 #include "tear/io/vtu.h"
-#include "tear/mpm/simulation.h"
+#include "tear/driver/simulation.h"
 #include "tear/render/render.h"
 #include "tear/render/video.h"
 #include "tear/surface/mesher.h"
@@ -14,8 +15,6 @@
 
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
-#include <tbb/info.h>
-#include <tbb/version.h>
 
 #include <algorithm>
 #include <chrono>
@@ -351,8 +350,8 @@ void print_info(std::ostream& out) {
   out << "compiler    " << __VERSION__ << "\n";
   out << "eigen       " << EIGEN_WORLD_VERSION << "." << EIGEN_MAJOR_VERSION << "."
       << EIGEN_MINOR_VERSION << "\n";
-  out << "onetbb      " << TBB_VERSION_MAJOR << "." << TBB_VERSION_MINOR << "\n";
-  out << "threads     " << tbb::info::default_concurrency() << " available\n";
+  out << "onetbb      " << threading_library_version() << "\n";
+  out << "threads     " << available_threads() << " available\n";
   out << "embree      " << embree_version() << "\n";
   out << "libpng      " << libpng_version() << "\n";
   out << "openvdb     " << openvdb_version() << "\n";

@@ -1,7 +1,7 @@
 #include "tear/grid/collider.h"
 
 #include <Eigen/Geometry>
-#include <tbb/parallel_for.h>
+#include "tear/exec/parallel.h"
 
 #include <cmath>
 #include <limits>
@@ -65,7 +65,8 @@ void apply_colliders(SparseGrid<Dim>& grid, ContactType walls,
   }
   const IVec<Dim> n_nodes = grid.num_nodes();
   const int blocks = grid.num_blocks();
-  tbb::parallel_for(0, blocks, [&](int blk) {
+  parallel_for(size_t(blocks), [&](size_t blk_index) {
+    const int blk = int(blk_index);
     for (int l = 0; l < SparseGrid<Dim>::kNodesPerBlock; ++l) {
       const int node = blk * SparseGrid<Dim>::kNodesPerBlock + l;
       if (grid.mass[node] <= 0) continue;

@@ -3,7 +3,7 @@
 #include <atomic>
 #include <stdexcept>
 
-#include <tbb/parallel_for.h>
+#include "tear/exec/parallel.h"
 
 #include <algorithm>
 #include <cmath>
@@ -37,56 +37,76 @@ IVec<Dim> SparseGrid<Dim>::slot_coord(int slot) const {
 }
 
 template <int Dim>
-void SparseGrid<Dim>::bin(const std::vector<Vec<Dim>>& x) {
-  const size_t n = x.size();
-  particle_slot_.resize(n);
+void SparseGrid<Dim>::bin(const std::vector<const std::vector<Vec<Dim>>*>& groups) {
   const Real inv_dx = Real(1 / dx_);
-  // Positions are clamped inside the domain, so only a NaN or infinity (an unstable run)
-  // can fall outside the slot table; that is the user's problem to hear about, not an abort.
-  std::atomic<bool> non_finite{false};
-  tbb::parallel_for(size_t(0), n, [&](size_t p) {
-    if (!x[p].allFinite()) {
-      non_finite = true;
-      particle_slot_[p] = 0;
-      return;
-    }
-    IVec<Dim> b;
-    for (int d = 0; d < Dim; ++d) {
-      const int base = BSpline1D<3>::base_node((x[p][d] - origin_[d]) * inv_dx) + kPad;
-      TEAR_ASSERT(base >= 0 && base < n_nodes_[d] + 2 * kPad);
-      b[d] = base >> kLogBlock;
-    }
-    particle_slot_[p] = slot_of(b);
-  });
-  if (non_finite)
-    throw std::runtime_error(
-        "the simulation became unstable (non-finite particle positions); lower time.cfl or "
-        "time.max_dt, or check material stiffness against the time step");
-
-  // Reset the previous activation, then count particles per home slot.
+  bins_.resize(groups.size());
+  // Reset the previous activation.
   for (int s : block_slot_) table_[s] = -1;
   block_slot_.clear();
-  home_blocks_.clear();
-  for (size_t p = 0; p < n; ++p) ++counts_[particle_slot_[p]];
+  std::vector<int> all_homes;  // home slots of every group
+  for (size_t g = 0; g < groups.size(); ++g) {
+    const std::vector<Vec<Dim>>& x = *groups[g];
+    ParticleBins<Dim>& b = bins_[g];
+    const size_t n = x.size();
+    b.particle_slot.resize(n);
+    // Positions are clamped inside the domain, so only a NaN or infinity (an unstable run)
+    // can fall outside the slot table; that is the user's problem to hear about, not an abort.
+    std::atomic<bool> non_finite{false};
+    parallel_for(n, [&](size_t p) {
+      if (!x[p].allFinite()) {
+        non_finite = true;
+        b.particle_slot[p] = 0;
+        return;
+      }
+      IVec<Dim> c;
+      for (int d = 0; d < Dim; ++d) {
+        const int base = BSpline1D<3>::base_node((x[p][d] - origin_[d]) * inv_dx) + kPad;
+        TEAR_ASSERT(base >= 0 && base < n_nodes_[d] + 2 * kPad);
+        c[d] = base >> kLogBlock;
+      }
+      b.particle_slot[p] = slot_of(c);
+    });
+    if (non_finite)
+      throw std::runtime_error(
+          "the simulation became unstable (non-finite particle positions); lower time.cfl or "
+          "time.max_dt, or check material stiffness against the time step");
 
-  // Home blocks (with particles) in slot order; their +1 neighbours are activated too.
-  std::vector<int> home_slots;
-  for (size_t p = 0; p < n; ++p) {
-    const int s = particle_slot_[p];
-    if (table_[s] == -2) continue;
-    table_[s] = -2;  // mark seen
-    home_slots.push_back(s);
+    // Count particles per home slot; home blocks (with particles) in slot order.
+    b.home_blocks.clear();
+    for (size_t p = 0; p < n; ++p) ++counts_[b.particle_slot[p]];
+    std::vector<int> home_slots;
+    for (size_t p = 0; p < n; ++p) {
+      const int s = b.particle_slot[p];
+      if (table_[s] == -2) continue;
+      table_[s] = -2;  // mark seen
+      home_slots.push_back(s);
+    }
+    std::sort(home_slots.begin(), home_slots.end());
+    uint32_t offset = 0;
+    for (int s : home_slots) {
+      b.home_blocks.push_back({s, offset, offset + counts_[s]});
+      offset += counts_[s];
+      counts_[s] = b.home_blocks.back().begin;  // becomes the fill cursor
+    }
+    // Stable counting sort of particles by home slot.
+    b.order.resize(n);
+    for (size_t p = 0; p < n; ++p) b.order[counts_[b.particle_slot[p]]++] = uint32_t(p);
+    for (int s : home_slots) counts_[s] = 0, table_[s] = -1;
+
+    for (auto& c : b.colours) c.clear();
+    for (size_t h = 0; h < b.home_blocks.size(); ++h) {
+      const IVec<Dim> c = slot_coord(b.home_blocks[h].slot);
+      int colour = 0;
+      for (int d = 0; d < Dim; ++d) colour |= (c[d] & 1) << d;
+      b.colours[colour].push_back(int(h));
+    }
+    all_homes.insert(all_homes.end(), home_slots.begin(), home_slots.end());
   }
-  std::sort(home_slots.begin(), home_slots.end());
-  uint32_t offset = 0;
-  for (int s : home_slots) {
-    home_blocks_.push_back({s, offset, offset + counts_[s]});
-    offset += counts_[s];
-    counts_[s] = home_blocks_.back().begin;  // becomes the fill cursor
-  }
+
+  // Active blocks: every home block and its +1 neighbours, in slot order.
   std::vector<int> active;
-  active.reserve(home_slots.size() * kColours);
-  for (int s : home_slots) {
+  active.reserve(all_homes.size() * kColours);
+  for (int s : all_homes) {
     const IVec<Dim> b = slot_coord(s);
     for (int c = 0; c < kColours; ++c) {
       IVec<Dim> nb = b;
@@ -96,28 +116,14 @@ void SparseGrid<Dim>::bin(const std::vector<Vec<Dim>>& x) {
   }
   std::sort(active.begin(), active.end());
   active.erase(std::unique(active.begin(), active.end()), active.end());
-  for (int s : home_slots) table_[s] = -1;
   block_slot_ = active;
   for (size_t i = 0; i < active.size(); ++i) table_[active[i]] = int(i);
-
-  // Stable counting sort of particles by home slot.
-  order_.resize(n);
-  for (size_t p = 0; p < n; ++p) order_[counts_[particle_slot_[p]]++] = uint32_t(p);
-  for (int s : home_slots) counts_[s] = 0;
-
-  for (auto& c : colours_) c.clear();
-  for (size_t h = 0; h < home_blocks_.size(); ++h) {
-    const IVec<Dim> b = slot_coord(home_blocks_[h].slot);
-    int c = 0;
-    for (int d = 0; d < Dim; ++d) c |= (b[d] & 1) << d;
-    colours_[c].push_back(int(h));
-  }
 
   const size_t nodes = block_slot_.size() * kNodesPerBlock;
   if (mass.size() < nodes) {
     mass.resize(nodes), velocity.resize(nodes), velocity_old.resize(nodes);
   }
-  tbb::parallel_for(size_t(0), block_slot_.size(), [&](size_t blk) {
+  parallel_for(block_slot_.size(), [&](size_t blk) {
     const size_t a = blk * kNodesPerBlock;
     std::fill(mass.begin() + a, mass.begin() + a + kNodesPerBlock, Real(0));
     std::fill(velocity.begin() + a, velocity.begin() + a + kNodesPerBlock, Vec<Dim>::Zero());
@@ -130,7 +136,7 @@ template <int Dim>
 void SparseGrid<Dim>::zero_scalar_fields() {
   const size_t nodes = num_active_nodes();
   if (scalar.size() < nodes) scalar.resize(nodes), scalar_weight.resize(nodes);
-  tbb::parallel_for(size_t(0), block_slot_.size(), [&](size_t blk) {
+  parallel_for(block_slot_.size(), [&](size_t blk) {
     const size_t a = blk * kNodesPerBlock;
     std::fill(scalar.begin() + a, scalar.begin() + a + kNodesPerBlock, Real(0));
     std::fill(scalar_weight.begin() + a, scalar_weight.begin() + a + kNodesPerBlock, Real(0));
@@ -138,7 +144,8 @@ void SparseGrid<Dim>::zero_scalar_fields() {
 }
 
 template <int Dim>
-std::vector<char> SparseGrid<Dim>::near_hot_blocks(const std::vector<char>& hot) const {
+std::vector<std::vector<char>> SparseGrid<Dim>::near_hot_blocks(
+    const std::vector<std::vector<char>>& hot) const {
   // Mark the 3^Dim slot neighbourhood of every hot home block (slot coordinates of home
   // blocks are at least 1 and at most n_slots - 2, so the neighbourhood stays in the table).
   std::vector<char> mark(table_.size(), 0);
@@ -151,11 +158,16 @@ std::vector<char> SparseGrid<Dim>::near_hot_blocks(const std::vector<char>& hot)
     for (int d = 0; d < Dim; ++d, rest /= 3) o += (rest % 3 - 1) * stride[d];
     offsets[n_off++] = o;
   }
-  for (size_t h = 0; h < home_blocks_.size(); ++h)
-    if (hot[h])
-      for (int o : offsets) mark[size_t(home_blocks_[h].slot + o)] = 1;
-  std::vector<char> near(home_blocks_.size());
-  for (size_t h = 0; h < home_blocks_.size(); ++h) near[h] = mark[size_t(home_blocks_[h].slot)];
+  for (size_t g = 0; g < bins_.size(); ++g)
+    for (size_t h = 0; h < bins_[g].home_blocks.size(); ++h)
+      if (hot[g][h])
+        for (int o : offsets) mark[size_t(bins_[g].home_blocks[h].slot + o)] = 1;
+  std::vector<std::vector<char>> near(bins_.size());
+  for (size_t g = 0; g < bins_.size(); ++g) {
+    const auto& homes = bins_[g].home_blocks;
+    near[g].resize(homes.size());
+    for (size_t h = 0; h < homes.size(); ++h) near[g][h] = mark[size_t(homes[h].slot)];
+  }
   return near;
 }
 
@@ -187,10 +199,12 @@ int SparseGrid<Dim>::node_index(const IVec<Dim>& g) const {
 
 template <int Dim>
 size_t SparseGrid<Dim>::memory_bytes() const {
+  size_t bins = 0;
+  for (const ParticleBins<Dim>& b : bins_)
+    bins += b.order.capacity() * sizeof(uint32_t) + b.particle_slot.capacity() * sizeof(int);
   return table_.size() * (sizeof(int) + sizeof(uint32_t)) +
          mass.capacity() * (sizeof(Real) + 2 * sizeof(Vec<Dim>)) +
-         scalar.capacity() * 2 * sizeof(Real) +
-         order_.capacity() * sizeof(uint32_t) + particle_slot_.capacity() * sizeof(int);
+         scalar.capacity() * 2 * sizeof(Real) + bins;
 }
 
 template class SparseGrid<2>;

@@ -20,8 +20,24 @@ namespace tear {
 // the cubic B-spline base node, floor(x/dx) - 1); every quadratic or cubic stencil of a
 // particle lies in its home block and the +1 neighbours. Home blocks of equal colour
 // (parity of the block coordinates) are two blocks apart, so their writes never overlap:
-// P2G runs one colour at a time, blocks of a colour in parallel, particles of a block in
-// ascending order. The result does not depend on the thread count.
+// P2G runs one colour at a time (and, within a colour, one particle group at a time), blocks
+// of a colour in parallel, particles of a block in ascending order. The result does not
+// depend on the thread count.
+
+// One particle group's binning: its particles grouped by home block, the home blocks by colour.
+template <int Dim>
+struct ParticleBins {
+  static constexpr int kColours = 1 << Dim;
+  struct HomeBlock {
+    int slot;             // slot of the home block
+    uint32_t begin, end;  // range in order
+  };
+  std::vector<int> particle_slot;  // home slot of each particle at binning
+  std::vector<uint32_t> order;     // particle indices by home block; ascending within a block
+  std::vector<HomeBlock> home_blocks;  // in slot order
+  std::vector<int> colours[kColours];  // indices into home_blocks, by colour
+};
+
 template <int Dim>
 class SparseGrid {
  public:
@@ -30,29 +46,24 @@ class SparseGrid {
   static constexpr int kNodesPerBlock = Dim == 2 ? kBlock * kBlock : kBlock * kBlock * kBlock;
   static constexpr int kPad = kBlock;  // padding nodes below node 0 in the slot table
   static constexpr int kColours = 1 << Dim;
-
-  struct HomeBlock {
-    int slot;          // slot of the home block
-    uint32_t begin, end;  // range in order()
-  };
+  using HomeBlock = typename ParticleBins<Dim>::HomeBlock;
 
   void setup(const Vec3d& domain_min, const Vec3d& domain_max, double dx);
 
-  // Bin particles by home block, activate the blocks their stencils reach, and zero the
-  // node fields of the active blocks. Positions must be inside the domain.
-  void bin(const std::vector<Vec<Dim>>& x);
+  // Bin the particles of every group (their positions, one array per group) by home block,
+  // activate the blocks their stencils reach, and zero the node fields of the active blocks.
+  // Positions must be inside the domain.
+  void bin(const std::vector<const std::vector<Vec<Dim>>*>& groups);
+  void bin(const std::vector<Vec<Dim>>& x) { bin(std::vector<const std::vector<Vec<Dim>>*>{&x}); }
+  // Group g's binning at the last bin().
+  const ParticleBins<Dim>& bins(size_t g = 0) const { return bins_[g]; }
+  size_t num_groups() const { return bins_.size(); }
 
   double dx() const { return dx_; }
   const Vec<Dim>& origin() const { return origin_; }
   const IVec<Dim>& num_nodes() const { return n_nodes_; }  // nodes per axis of the domain
   int num_blocks() const { return int(block_slot_.size()); }
   size_t num_active_nodes() const { return block_slot_.size() * kNodesPerBlock; }
-  // Particle indices grouped by home block; within a block in ascending index order.
-  const std::vector<uint32_t>& order() const { return order_; }
-  const std::vector<HomeBlock>& home_blocks() const { return home_blocks_; }
-  const std::vector<int>& colour(int c) const { return colours_[c]; }  // indices into home_blocks()
-  // Home slot of each particle at the last bin() call.
-  const std::vector<int>& particle_slot() const { return particle_slot_; }
 
   // Unpadded integer coordinates of the node with storage index `node`.
   IVec<Dim> node_coord(int node) const;
@@ -70,10 +81,11 @@ class SparseGrid {
   // Bytes held by the table and node fields.
   size_t memory_bytes() const;
 
-  // For each home block (index into home_blocks()): whether a home block within one block
-  // along every axis is flagged in `hot` (same indexing). Stencils of particles whose home
-  // blocks are not near any hot one never share a node with the hot particles' stencils.
-  std::vector<char> near_hot_blocks(const std::vector<char>& hot) const;
+  // For each home block of every group (hot[g][h], h indexing bins(g).home_blocks): whether a
+  // home block of any group within one block along every axis is flagged in `hot`. Stencils of
+  // particles whose home blocks are not near any hot one never share a node with the hot
+  // particles' stencils.
+  std::vector<std::vector<char>> near_hot_blocks(const std::vector<std::vector<char>>& hot) const;
 
   // Size and zero the scalar node fields of the active blocks (bin() leaves them alone:
   // only the damage solvers use them).
@@ -101,10 +113,7 @@ class SparseGrid {
   std::vector<int> table_;        // slot -> block id or -1
   std::vector<int> block_slot_;   // block id -> slot
   std::vector<uint32_t> counts_;  // per slot particle counts (scratch)
-  std::vector<int> particle_slot_;
-  std::vector<uint32_t> order_;
-  std::vector<HomeBlock> home_blocks_;
-  std::vector<int> colours_[kColours];
+  std::vector<ParticleBins<Dim>> bins_;  // per group
 };
 
 // One particle's B-spline stencil (Order 2 or 3), kept in separable form: per-axis weights,

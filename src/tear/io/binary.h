@@ -46,6 +46,13 @@ class ByteReader {
     values->resize(n);
     take(values->data(), n * sizeof(T));
   }
+  // The next `size` bytes, in place (valid while the input lives).
+  const char* get_view(size_t size) {
+    if (bytes_.size() - pos_ < size) throw std::runtime_error("truncated data");
+    const char* p = bytes_.data() + pos_;
+    pos_ += size;
+    return p;
+  }
   bool at_end() const { return pos_ == bytes_.size(); }
 
  private:

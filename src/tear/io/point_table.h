@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-namespace tear {
+#include "tear/particles/field.h"  // ColumnType
 
-enum class ColumnType { Int32, UInt8, Float32, Float64 };
+namespace tear {
 
 // A table of per-point columns. Values are held as double in memory and
 // converted to the column's declared type when encoded.

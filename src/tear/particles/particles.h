@@ -1,40 +1,61 @@
-// particles/: the structure-of-arrays particle store.
-// Owns per-particle state and its reordering; knows nothing of grids, materials or scenes.
+// particles/: the structure-of-arrays particle store of one group. Every field is declared
+// once below; resize, append, permute, checkpoints, frame columns and memory figures follow
+// from the declarations (particles/field.h). Knows nothing of grids, materials or scenes.
 #pragma once
 
 #include "tear/math/types.h"
+#include "tear/particles/field.h"
 
 #include <cstdint>
 #include <vector>
 
 namespace tear {
 
-template <int Dim>
-struct Particles {
-  std::vector<Vec<Dim>> x;      // position
-  std::vector<Vec<Dim>> v;      // velocity
-  std::vector<Mat<Dim>> C;      // APIC affine velocity matrix (velocity gradient estimate)
-  std::vector<Mat<Dim>> F;      // deformation gradient
-  std::vector<Mat<Dim>> fiber;  // rest fiber frame D = [a1 a2 (a3)], orthonormal columns
-  std::vector<Real> mass;
-  std::vector<Real> vol0;       // rest volume
-  std::vector<Real> damage;     // phase-field damage d in [0, 1], never decreasing
-  std::vector<Real> drive;      // crack driving force history Dtilde^H, never decreasing
-  std::vector<uint32_t> id;     // stable identity across reorderings
-  std::vector<uint16_t> material;
+// What a group's particles are. Volumetric: samples of a solid, each with its own F (today's
+// only kind). Codimensional curve and surface vertices and elements (jiang2017) come later,
+// each kind with the fields it needs.
+enum class GroupKind { Volumetric };
 
-  size_t size() const { return x.size(); }
-  void resize(size_t n);
-  // Append one particle at rest (F = I, C = 0, d = 0).
-  void push_back(const Vec<Dim>& pos, const Vec<Dim>& vel, const Mat<Dim>& frame, Real m,
-                 Real v0, uint16_t mat);
-  // Reorder every array: new index k holds old particle order[k].
-  void permute(const std::vector<uint32_t>& order);
-  // Bytes of state per particle (for memory estimates and benchmarks).
-  static constexpr size_t bytes_per_particle() {
-    return sizeof(Vec<Dim>) * 2 + sizeof(Mat<Dim>) * 3 + sizeof(Real) * 4 + sizeof(uint32_t) +
-           sizeof(uint16_t);
-  }
+// One particle group. Frame files list the columns in declaration order: id, x y z, vx vy vz,
+// damage, material, fx fy fz (ARCHITECTURE.md "Outputs").
+template <int Dim>
+struct Particles : FieldRegistry {
+  using V = Vec<Dim>;
+  using M = Mat<Dim>;
+
+  GroupKind kind = GroupKind::Volumetric;
+
+  // Stable identity across reorderings: 0..n-1 in sampling order.
+  Field<uint32_t> id{this, state_field("id", {{"id"}, ColumnType::Int32}), 0};
+  Field<V> x{this, state_field("x", {{"x", "y", "z"}, ColumnType::Float32}), V::Zero()};
+  Field<V> v{this, state_field("v", {{"vx", "vy", "vz"}, ColumnType::Float32}), V::Zero()};
+  // Phase-field damage d in [0, 1], never decreasing.
+  Field<Real> damage{this, state_field("damage", {{"damage"}, ColumnType::Float32}), 0};
+  Field<uint16_t> material{this, state_field("material", {{"material"}, ColumnType::UInt8}), 0};
+  // World-space fiber direction: the deformed primary fiber F a1, normalised.
+  DerivedColumns world_fiber{this, {{"fx", "fy", "fz"}, ColumnType::Float32}, &world_fiber_of};
+  // APIC affine velocity matrix (velocity gradient estimate).
+  Field<M> C{this, state_field("C"), M::Zero()};
+  // Deformation gradient.
+  Field<M> F{this, state_field("F"), M::Identity()};
+  // Rest fiber frame D = [a1 a2 (a3)], orthonormal columns.
+  Field<M> fiber{this, state_field("fiber"), M::Identity()};
+  Field<Real> mass{this, state_field("mass"), 0};
+  Field<Real> vol0{this, state_field("vol0"), 0};  // rest volume
+  // Crack driving force history Dtilde^H, never decreasing: only where damage is simulated.
+  Field<Real> drive{this, optional_state_field("drive"), 0};
+  // Home block slot at the last reorder (-1: never reordered); the reorder decision, and so the
+  // summation order, depends on it, so it is part of the restartable state.
+  Field<int32_t> reorder_slot{this, state_field("reorder_slot"), -1};
+  // This step's undegraded first Piola stress P(F) and J = det F (the constitutive phase).
+  Field<M> stress{this, scratch_field("stress"), M::Zero()};
+  Field<Real> J{this, scratch_field("J"), 1};
+
+  // Append one particle at rest (F = I, C = 0, d = 0) with id = its index.
+  void push_back(const V& pos, const V& vel, const M& frame, Real m, Real v0, uint16_t mat);
+
+ private:
+  static void world_fiber_of(const FieldRegistry& store, size_t i, double* out);
 };
 
 }  // namespace tear

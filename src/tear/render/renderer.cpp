@@ -2,6 +2,7 @@
 // a soft key light with shadows and a sky with ambient occlusion; a few samples per pixel from
 // a low-discrepancy sequence rotated per pixel, so every pixel is computed on its own and the
 // picture does not depend on the thread count.
+#include "tear/exec/parallel.h"
 #include "tear/render/color_map.h"
 #include "tear/render/legend.h"
 #include "tear/render/render.h"
@@ -9,8 +10,6 @@
 #include "tear/surface/mesher.h"
 
 #include <embree3/rtcore.h>
-#include <tbb/blocked_range2d.h>
-#include <tbb/parallel_for.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -316,7 +315,7 @@ std::vector<Vector3f> vertex_albedo(const std::vector<Vector3f>& vertices,
       grid[key_of(cell_of(centre[i], 0), cell_of(centre[i], 1), cell_of(centre[i], 2))].push_back(
           uint32_t(i));
   std::vector<Vector3f> out(vertices.size(), linear(Rgb(0.8f, 0.8f, 0.8f)));
-  tbb::parallel_for(size_t(0), vertices.size(), [&](size_t v) {
+  parallel_for(vertices.size(), [&](size_t v) {
     const Vector3f& p = vertices[v];
     const int64_t ci = cell_of(p, 0), cj = cell_of(p, 1), ck = cell_of(p, 2);
     float best = std::numeric_limits<float>::infinity();
@@ -474,11 +473,11 @@ Image Renderer::render(const PointTable& frame, const RenderLook& look, const St
   const int w = stage.camera.width, h = stage.camera.height, n = std::max(1, settings.samples);
   const Tracer tracer(geo, stage, look, n);
   Image image(w, h);
-  tbb::parallel_for(tbb::blocked_range2d<int>(0, h, 16, 0, w, 16), [&](const auto& tile) {
+  parallel_for_tiles(h, w, 16, [&](int y0, int y1, int x0, int x1) {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
-    for (int y = tile.rows().begin(); y < tile.rows().end(); ++y)
-      for (int x = tile.cols().begin(); x < tile.cols().end(); ++x) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) {
         const Sampler sm{mix32(uint32_t(x) * 0x8da6b343u ^ mix32(uint32_t(y) * 0xd8163841u))};
         Vector3f sum = Vector3f::Zero();
         for (int s = 0; s < n; ++s) {

@@ -92,7 +92,7 @@ json parse_damage(const Reader& r, const json& doc, Scene* s) {
                    " (the implicit damage solver is no longer a CG solve on the grid)");
   }
   r.object(*d, "damage", {"solver", "l0", "zeta", "tolerance", "max_iterations"});
-  DamageSolverSpec& ds = s->damage;
+  DamageSettings& ds = s->damage;
   // Default: the explicit solver (the paper's choice: faster, same cracks) when some material
   // can be damaged, so a material's damage block is never silently ignored; "none" otherwise.
   bool any_damage = false;

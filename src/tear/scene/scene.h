@@ -1,11 +1,13 @@
 // scene/: loading, validating and resolving JSON scene files (../shared/design/SCENE_FORMAT.md).
-// Owns Scene (a plain description) and SceneError; shapes come from geometry/, colliders
-// (Collider, ContactType) from grid/. Knows nothing of solvers.
+// Owns Scene (a plain description) and SceneError, and turns a scene into the core's plain
+// settings (mpm_settings); shapes come from geometry/, colliders from grid/. Never runs anything.
 #pragma once
 
+#include "tear/damage/damage_settings.h"
 #include "tear/geometry/shape.h"
 #include "tear/grid/collider.h"
 #include "tear/materials/material.h"
+#include "tear/mpm/settings.h"
 
 #include <nlohmann/json.hpp>
 
@@ -27,27 +29,7 @@ class SceneError : public std::runtime_error {
   std::string file_, path_, reason_;
 };
 
-enum class Transfer { Apic, Pic, Flip };
 enum class FiberField { Constant, Radial, Circumferential, Longitudinal, Random };
-enum class DamageSolver { None, Explicit, Implicit };
-
-// Scene-wide phase-field damage settings ("damage" section).
-struct DamageSolverSpec {
-  DamageSolver solver = DamageSolver::None;
-  double l0 = 0;               // length scale; the scene's null resolves to 0.5 dx
-  double zeta = 1;             // slope of the driving force
-  double tolerance = 1e-6;     // implicit: stop when no particle's damage changes by more
-  int max_iterations = 200;    // implicit: give up (and report it) after this many sweeps
-};
-
-// Per-material damage parameters ("materials.NAME.damage"); enabled = false when omitted/null.
-struct DamageSpec {
-  bool enabled = false;
-  double sigma_c = 0;          // critical stress
-  double eta = 0;              // mobility
-  double residual = 0;         // stiffness left at d = 1, in [0, 1)
-  double alpha[2] = {0, 0};    // structural-tensor weights of a1, a2, in [-1, inf)
-};
 
 struct FiberSpec {
   FiberField type = FiberField::Constant;
@@ -62,7 +44,7 @@ struct MaterialSpec {
   std::string name;
   MaterialParams params;
   Real fiber_scale[2] = {0, 0};
-  DamageSpec damage;
+  DamageParams damage;
   bool inextensible = false;  // only false is accepted for now
 };
 
@@ -112,7 +94,7 @@ struct Scene {
   // > 0: FLIP's per-step ratio is exp(-dt / flip_relaxation_time) instead of flip_ratio, so
   // particle velocities relax to the grid's at a rate that does not depend on the step.
   double flip_relaxation_time = 0;
-  DamageSolverSpec damage;
+  DamageSettings damage;
   std::vector<MaterialSpec> materials;
   std::vector<ObjectSpec> objects;
   std::vector<Collider> boundaries;
@@ -131,6 +113,10 @@ struct Scene {
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
 // Same, from an in-memory JSON document (`file` is used in error messages and to resolve paths).
 Scene parse_scene(const nlohmann::json& doc, const std::string& file);
+
+// The solver's settings of a scene: everything the MPM core needs, nothing of files, outputs or
+// pictures. A damage solver of "none" disables every material's damage.
+MpmSettings mpm_settings(const Scene& scene);
 
 // An object's particles per cell when its "ppc" is omitted: 4 in 2D, 8 in 3D.
 int default_ppc(int dim);

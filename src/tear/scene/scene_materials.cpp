@@ -30,7 +30,7 @@ std::string only_models(bool ModelTraits::*trait, const char* verb_one, const ch
   return "only " + model_names(trait) + " " + (count == 1 ? verb_one : verb_many);
 }
 
-json parse_damage_spec(const Reader& r, const json& m, const std::string& path, DamageSpec* d) {
+json parse_damage_spec(const Reader& r, const json& m, const std::string& path, DamageParams* d) {
   const json* j = r.find(m, "damage");
   if (!j) return nullptr;
   std::string p = key_path(path, "damage");

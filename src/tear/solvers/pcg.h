@@ -1,12 +1,12 @@
 // solvers/: Jacobi-preconditioned conjugate gradients on plain vectors, matrix-free.
-// Dot products are deterministic sums (math/parallel.h), so the iterates, and the iteration
-// count, are bit-identical for any thread count.
+// Dot products are deterministic sums (exec/parallel.h), so the iterates, and the iteration
+// count, are bit-identical for any thread count; a multi-process run sums them over ranks
+// (exec/domain.h).
 #pragma once
 
-#include "tear/math/parallel.h"
+#include "tear/exec/domain.h"
+#include "tear/exec/parallel.h"
 #include "tear/math/types.h"
-
-#include <tbb/parallel_for.h>
 
 #include <cmath>
 #include <vector>
@@ -22,16 +22,20 @@ struct PcgResult {
 // Solves K x = b for symmetric positive (semi-)definite K given as apply(x, y): y = K x.
 // inv_diag holds 1 / K_ii where the unknown takes part and 0 where it does not (those
 // entries of x are left alone and must not influence the others). x holds the initial guess.
-// Stops when |b - K x| <= tolerance |b| or after max_iterations.
+// Stops when |b - K x| <= tolerance |b| or after max_iterations. The vectors are this process's
+// part of the system; `domain` sums dot products over the ranks (nullptr: one process).
 template <class Apply>
 PcgResult pcg_solve(Apply&& apply, const std::vector<Real>& b, const std::vector<Real>& inv_diag,
-                    double tolerance, int max_iterations, std::vector<Real>* x_io) {
+                    double tolerance, int max_iterations, std::vector<Real>* x_io,
+                    const Domain* domain = nullptr) {
   std::vector<Real>& x = *x_io;
   const size_t n = b.size();
-  auto dot = [n](const std::vector<Real>& u, const std::vector<Real>& v) {
-    return deterministic_sum<double>(n, [&](size_t i) { return double(u[i]) * double(v[i]); });
+  auto dot = [n, domain](const std::vector<Real>& u, const std::vector<Real>& v) {
+    const double local =
+        deterministic_sum<double>(n, [&](size_t i) { return double(u[i]) * double(v[i]); });
+    return domain ? domain->sum(local) : local;
   };
-  auto for_each = [n](auto&& f) { tbb::parallel_for(size_t(0), n, f); };
+  auto for_each = [n](auto&& f) { parallel_for(n, f); };
 
   PcgResult res;
   const double b_norm = std::sqrt(dot(b, b));

@@ -1,6 +1,5 @@
 // estimate_spacing: the median nearest-neighbour distance of a frame's points, found in a hash
 // grid whose cells hold a couple of points each.
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -9,6 +8,7 @@
 #include <numeric>
 #include <vector>
 
+#include "tear/exec/parallel.h"
 #include "tear/surface/mesher.h"
 
 namespace tear {
@@ -139,8 +139,7 @@ double estimate_spacing(const PointTable& frame) {
       continue;
     }
     std::vector<double> nearest(points.size());
-    tbb::parallel_for(size_t(0), points.size(),
-                      [&](size_t p) { nearest[p] = grid.nearest(uint32_t(p), kMaxRing); });
+    parallel_for(points.size(), [&](size_t p) { nearest[p] = grid.nearest(uint32_t(p), kMaxRing); });
     // Coincident points say nothing about the spacing.
     nearest.erase(std::remove(nearest.begin(), nearest.end(), 0.0), nearest.end());
     if (nearest.empty()) return 0;

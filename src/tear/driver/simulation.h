@@ -1,11 +1,11 @@
-// mpm/: the explicit MPM time integrator (paper Fig. 13): sort, P2G, grid update, G2P.
-// Owns the particle state of a running scene and its per-frame statistics.
-// Consumes the plain scene description (scene/scene.h) but never parses files.
+// driver/: the one interface through which the driver runs a simulation (MPM today, FEM later):
+// stepping to frame times, per-frame statistics, the frame table from the field registry, and
+// checkpoints. Each kind of simulation implements it over its own core module (mpm/, later
+// fem/), with io/ for tables and checkpoint records.
 #pragma once
 
 #include "tear/io/point_table.h"
-
-#include "tear/particles/particles.h"
+#include "tear/mpm/time_step.h"
 #include "tear/scene/scene.h"
 
 #include <nlohmann/json.hpp>
@@ -15,17 +15,11 @@
 
 namespace tear {
 
-// Wall-clock seconds spent in each phase since the simulation started.
-struct PhaseTimes {
-  double sort = 0, damage = 0, p2g = 0, grid = 0, g2p = 0, other = 0;
-  nlohmann::json to_json() const;
-};
-
 // Figures of one frame, as written to stats.jsonl (ARCHITECTURE.md "Outputs").
 struct FrameStats {
   int frame = 0;
   double time = 0;
-  long steps = 0;        // steps taken since the previous frame
+  long steps = 0;  // steps taken since the previous frame
   double dt_min = 0, dt_max = 0;
   size_t particles = 0;
   double mass = 0;
@@ -40,29 +34,16 @@ struct FrameStats {
   long damage_solves = 0, damage_iterations = 0, damage_unconverged = 0;
   int damage_iterations_max = 0;
   double damage_change = 0;
-  double wall_s = 0;     // wall time since the start of the run
+  double wall_s = 0;  // wall time since the start of the run
   nlohmann::json to_json() const;
 };
 
-// The limits on one explicit step (seconds; infinity where there is none): the scene's
-// max_dt, the elastic wave speed (cfl dx / c), the particles' speed (cfl dx / max|v|) and the
-// explicit damage update (docs/materials.md "Time step"); `damage_cracking` is the damage
-// limit once cracks grow (not part of dt(): a forecast for `tear check`).
-struct DtLimits {
-  double max_dt = 0, wave = 0, velocity = 0, damage = 0;
-  double damage_cracking = 0;
-  double dt() const;
-  // "max_dt", "wave speed", "particle speed" or "explicit damage": the one that sets dt().
-  const char* limiting() const;
-};
-
-// Dimension-erased interface used by the driver and the CLI.
 class Simulation {
  public:
   virtual ~Simulation() = default;
   virtual int dim() const = 0;
   virtual size_t num_particles() const = 0;
-  virtual int frame() const = 0;        // frames completed (0 = initial state)
+  virtual int frame() const = 0;  // frames completed (0 = initial state)
   virtual double time() const = 0;
   virtual long total_steps() const = 0;
   // Advance to the next frame time, landing on it exactly.
@@ -74,7 +55,6 @@ class Simulation {
   virtual DtLimits dt_limits() const = 0;
   // Statistics of the current state; step figures are those since the last call.
   virtual FrameStats collect_stats() = 0;
-  virtual const PhaseTimes& phase_times() const = 0;
   // The current particles as the frame files' columns (ARCHITECTURE.md "Outputs"), rows in id
   // order; io/frames.h encodes it in each output format.
   virtual PointTable frame_table() const = 0;
@@ -84,13 +64,11 @@ class Simulation {
   // A run resumed from it continues bit-identically to one that never stopped.
   virtual std::string encode_checkpoint() const = 0;
   // Throws std::runtime_error with the reason if the bytes are not a checkpoint of this scene
-  // (format, dimension, particle count).
+  // (format, dimension, particle count, fields).
   virtual void decode_checkpoint(const std::string& bytes) = 0;
 };
 
+// The simulation a scene describes (today always MPM), its particles sampled from the scene.
 std::unique_ptr<Simulation> make_simulation(const Scene& scene);
-
-template <int Dim>
-class MpmSolver;  // defined in mpm/solver.h; Simulation wraps it.
 
 }  // namespace tear

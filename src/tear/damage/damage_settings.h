@@ -1,0 +1,36 @@
+// damage/: the settings of anisotropic phase-field damage (EQUATIONS.md §1): the scene-wide
+// solver settings, each material's parameters, and the implicit solver's figures. Plain data.
+#pragma once
+
+namespace tear {
+
+enum class DamageSolver { None, Explicit, Implicit };
+
+// Scene-wide phase-field settings ("damage" section of a scene).
+struct DamageSettings {
+  DamageSolver solver = DamageSolver::None;
+  double l0 = 0;             // length scale (a scene's null resolves to 0.5 dx)
+  double zeta = 1;           // slope of the driving force
+  double tolerance = 1e-6;   // implicit: stop when no particle's damage changes by more
+  int max_iterations = 200;  // implicit: give up (and report it) after this many sweeps
+};
+
+// One material's damage parameters; enabled = false: the material never cracks.
+struct DamageParams {
+  bool enabled = false;
+  double sigma_c = 0;        // critical stress
+  double eta = 0;            // mobility
+  double residual = 0;       // stiffness left at d = 1, in [0, 1)
+  double alpha[2] = {0, 0};  // structural-tensor weights of a1, a2, in [-1, inf)
+};
+
+// Implicit damage solves since the counters were last reset (stats.jsonl figures).
+struct DamageSolveStats {
+  long solves = 0;
+  long iterations = 0;     // sweeps, summed over the solves
+  int iterations_max = 0;  // sweeps of one solve
+  double change_max = 0;   // largest change of a particle's damage in a solve's last sweep
+  long unconverged = 0;    // solves that stopped at damage.max_iterations
+};
+
+}  // namespace tear

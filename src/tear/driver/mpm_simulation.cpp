@@ -1,0 +1,198 @@
+// The MPM simulation behind the driver: settings and particles from the scene, the explicit
+// integrator, frame tables and checkpoints from the particle field registry.
+#include "tear/driver/simulation.h"
+#include "tear/exec/domain.h"
+#include "tear/io/binary.h"
+#include "tear/io/field_io.h"
+#include "tear/mpm/explicit_step.h"
+#include "tear/mpm/measure.h"
+#include "tear/scene/sampling.h"
+
+#include <algorithm>
+#include <chrono>
+#include <limits>
+
+namespace tear {
+
+namespace {
+
+// Checkpoint format: this magic (with its version), then the header below, then each group's
+// state fields as io/field_io.h writes them.
+const std::string kCheckpointMagic = "TEARCKP5";
+
+template <int Dim>
+class MpmSimulation final : public Simulation {
+ public:
+  explicit MpmSimulation(const Scene& scene)
+      : settings_(mpm_settings(scene)),
+        frame_dt_(scene.frame_dt),
+        state_(make_mpm_state<Dim>(settings_, {sample_scene<Dim>(scene)})),
+        start_(std::chrono::steady_clock::now()) {}
+
+  int dim() const override { return Dim; }
+  size_t num_particles() const override { return state_.num_particles(); }
+  int frame() const override { return frame_; }
+  double time() const override { return state_.time; }
+  long total_steps() const override { return state_.steps; }
+  double estimate_dt() const override { return dt_limits().dt(); }
+  DtLimits dt_limits() const override { return tear::dt_limits(settings_, state_, domain_); }
+
+  double step(double dt_cap) override {
+    const double dt = std::min(dt_cap, estimate_dt());
+    explicit_step(settings_, &state_, dt, &record_, domain_);
+    dt_min_ = std::min(dt_min_, dt);
+    dt_max_ = std::max(dt_max_, dt);
+    ++steps_since_stats_;
+    return dt;
+  }
+
+  // Steps of estimate_dt(); the step that would cross the frame time is shortened to land
+  // on it exactly (ARCHITECTURE.md "One explicit step").
+  void advance_frame() override {
+    const double target = double(frame_ + 1) * frame_dt_;
+    while (state_.time < target) {
+      const double remaining = target - state_.time;
+      const double dt = estimate_dt();
+      if (dt >= remaining * (1 - 1e-9)) {
+        step(remaining);
+        state_.time = target;
+      } else {
+        step(dt);
+      }
+    }
+    ++frame_;
+  }
+
+  FrameStats collect_stats() override {
+    const StateFigures f = reduce_figures(measure_state(settings_, state_), domain_);
+    FrameStats s;
+    s.frame = frame_;
+    s.time = state_.time;
+    s.steps = steps_since_stats_;
+    s.dt_min = steps_since_stats_ ? dt_min_ : 0;
+    s.dt_max = steps_since_stats_ ? dt_max_ : 0;
+    s.particles = f.particles;
+    s.mass = f.mass;
+    s.momentum = f.momentum;
+    s.angular_momentum = f.angular_momentum;
+    s.kinetic_energy = f.kinetic_energy;
+    s.elastic_energy = f.elastic_energy;
+    s.max_damage = f.max_damage;
+    s.mean_damage = f.mean_damage;
+    s.damaged_fraction = f.damaged_fraction;
+    DamageSolveStats& ds = record_.damage;
+    s.solver_figures = settings_.damage.solver == DamageSolver::Implicit;
+    s.damage_solves = ds.solves;
+    s.damage_iterations = ds.iterations;
+    s.damage_iterations_max = ds.iterations_max;
+    s.damage_change = ds.change_max;
+    s.damage_unconverged = ds.unconverged;
+    ds = DamageSolveStats();
+    s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    steps_since_stats_ = 0;
+    dt_min_ = std::numeric_limits<double>::infinity();
+    dt_max_ = 0;
+    return s;
+  }
+
+  PointTable frame_table() const override {
+    const Particles<Dim>& p = state_.groups.at(0);  // one group per scene today
+    return tear::frame_table(p, rows_by_id(p.id));
+  }
+
+  std::string encode_checkpoint() const override {
+    ByteWriter w;
+    w.bytes() = kCheckpointMagic;
+    w.put<int32_t>(Dim);
+    w.put<int32_t>(sizeof(Real));
+    w.put<uint32_t>(uint32_t(state_.groups.size()));
+    for (const Particles<Dim>& g : state_.groups) w.put<uint64_t>(g.size());
+    w.put<double>(state_.time);
+    w.put<int64_t>(state_.steps);
+    w.put<int32_t>(frame_);
+    w.put<int64_t>(steps_since_stats_);
+    w.put<double>(dt_min_);
+    w.put<double>(dt_max_);
+    const DamageSolveStats& ds = record_.damage;
+    w.put<int64_t>(ds.solves);
+    w.put<int64_t>(ds.iterations);
+    w.put<int32_t>(ds.iterations_max);
+    w.put<double>(ds.change_max);
+    w.put<int64_t>(ds.unconverged);
+    for (const Particles<Dim>& g : state_.groups) put_fields(g, &w);
+    return std::move(w.bytes());
+  }
+
+  void decode_checkpoint(const std::string& bytes) override {
+    if (bytes.compare(0, kCheckpointMagic.size(), kCheckpointMagic) != 0)
+      throw std::runtime_error("not a tear checkpoint (or one from another version)");
+    ByteReader r(bytes, kCheckpointMagic.size());
+    if (r.get<int32_t>() != Dim) throw std::runtime_error("checkpoint of a different dimension");
+    if (r.get<int32_t>() != int32_t(sizeof(Real)))
+      throw std::runtime_error("checkpoint written with a different precision (TEAR_FLOAT)");
+    const uint32_t groups = r.get<uint32_t>();
+    if (groups != state_.groups.size())
+      throw std::runtime_error("checkpoint has " + std::to_string(groups) +
+                               " particle groups, the scene " +
+                               std::to_string(state_.groups.size()));
+    std::vector<uint64_t> counts(groups);
+    for (uint32_t g = 0; g < groups; ++g) {
+      counts[g] = r.get<uint64_t>();
+      if (counts[g] != state_.groups[g].size())
+        throw std::runtime_error("checkpoint has " + std::to_string(counts[g]) +
+                                 " particles, the scene " +
+                                 std::to_string(state_.groups[g].size()));
+    }
+    // Into fresh stores with the same fields, so that a refused checkpoint leaves the state.
+    std::vector<Particles<Dim>> stores(groups);
+    for (uint32_t g = 0; g < groups; ++g) stores[g].enable_like(state_.groups[g]);
+    MpmState<Dim> state;
+    state.time = r.get<double>();
+    state.steps = long(r.get<int64_t>());
+    const int frame = r.get<int32_t>();
+    const long since = long(r.get<int64_t>());
+    const double dt_min = r.get<double>(), dt_max = r.get<double>();
+    DamageSolveStats ds;
+    ds.solves = long(r.get<int64_t>());
+    ds.iterations = long(r.get<int64_t>());
+    ds.iterations_max = r.get<int32_t>();
+    ds.change_max = r.get<double>();
+    ds.unconverged = long(r.get<int64_t>());
+    for (uint32_t g = 0; g < groups; ++g) get_fields(&r, size_t(counts[g]), &stores[g]);
+    if (!r.at_end()) throw std::runtime_error("corrupt checkpoint (trailing bytes)");
+    state_.groups = std::move(stores);
+    state_.time = state.time;
+    state_.steps = state.steps;
+    frame_ = frame;
+    steps_since_stats_ = since;
+    dt_min_ = dt_min;
+    dt_max_ = dt_max;
+    record_.damage = ds;
+  }
+
+  size_t memory_bytes() const override {
+    size_t bytes = state_.grid.memory_bytes();
+    for (const Particles<Dim>& g : state_.groups) bytes += g.memory_bytes();
+    return bytes;
+  }
+
+ private:
+  MpmSettings settings_;
+  double frame_dt_;
+  MpmState<Dim> state_;
+  StepRecord record_;
+  LocalDomain domain_;
+  std::chrono::steady_clock::time_point start_;
+  int frame_ = 0;
+  long steps_since_stats_ = 0;
+  double dt_min_ = std::numeric_limits<double>::infinity(), dt_max_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<Simulation> make_simulation(const Scene& scene) {
+  if (scene.dim == 2) return std::make_unique<MpmSimulation<2>>(scene);
+  return std::make_unique<MpmSimulation<3>>(scene);
+}
+
+}  // namespace tear

@@ -1,0 +1,32 @@
+#include "tear/driver/simulation.h"
+
+namespace tear {
+
+nlohmann::json FrameStats::to_json() const {
+  auto vec = [](const Vec3d& v) { return nlohmann::json::array({v[0], v[1], v[2]}); };
+  nlohmann::json j = {{"frame", frame},
+                      {"time", time},
+                      {"steps", steps},
+                      {"dt_min", dt_min},
+                      {"dt_max", dt_max},
+                      {"particles", particles},
+                      {"mass", mass},
+                      {"momentum", vec(momentum)},
+                      {"angular_momentum", vec(angular_momentum)},
+                      {"kinetic_energy", kinetic_energy},
+                      {"elastic_energy", elastic_energy},
+                      {"max_damage", max_damage},
+                      {"mean_damage", mean_damage},
+                      {"damaged_fraction", damaged_fraction},
+                      {"wall_s", wall_s}};
+  if (solver_figures) {
+    j["damage_solves"] = damage_solves;
+    j["damage_iterations"] = damage_iterations;
+    j["damage_iterations_max"] = damage_iterations_max;
+    j["damage_unconverged"] = damage_unconverged;
+    j["damage_change"] = damage_change;
+  }
+  return j;
+}
+
+}  // namespace tear

@@ -1,0 +1,31 @@
+// io/: particle stores as frame tables and as checkpoint records, both from the field registry
+// (particles/field.h): a field declared in a store is written and read back without any code
+// here naming it.
+#pragma once
+
+#include "tear/io/binary.h"
+#include "tear/io/point_table.h"
+#include "tear/particles/field.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace tear {
+
+// The frame columns of every enabled field (and derived columns) of `store`, in declaration
+// order; row k is particle rows[k].
+PointTable frame_table(const FieldRegistry& store, const std::vector<uint32_t>& rows);
+
+// rows[k] = the index of the particle whose id is k (ids must be a permutation of 0..n-1): frame
+// rows in id order, so frames compare row by row across frames and runs.
+std::vector<uint32_t> rows_by_id(const std::vector<uint32_t>& id);
+
+// The state fields of `store` (enabled ones, declaration order): for each its name, element
+// size, count and bytes.
+void put_fields(const FieldRegistry& store, ByteWriter* w);
+// Reads what put_fields wrote into `store`'s state fields. Throws std::runtime_error("corrupt
+// checkpoint (...)") naming the field when the names, element sizes or counts differ from the
+// store's declarations or from `count` particles.
+void get_fields(ByteReader* r, size_t count, FieldRegistry* store);
+
+}  // namespace tear

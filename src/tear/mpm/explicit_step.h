@@ -1,0 +1,36 @@
+// mpm/: the explicit (symplectic Euler) integrator, paper Fig. 13: one step is the phases of
+// mpm/phases.h called in order. An implicit integrator will sit beside it over the same phases.
+#pragma once
+
+#include "tear/damage/damage_settings.h"
+#include "tear/exec/domain.h"
+#include "tear/mpm/settings.h"
+#include "tear/mpm/state.h"
+
+namespace tear {
+
+// Wall-clock seconds spent in each phase.
+struct PhaseTimes {
+  double sort = 0, stress = 0, damage = 0, p2g = 0, grid = 0, g2p = 0;
+};
+
+// What steps leave behind besides the state: phase times and the implicit damage solver's
+// figures (reset by whoever reports them).
+struct StepRecord {
+  PhaseTimes times;
+  DamageSolveStats damage;
+};
+
+// One explicit step of size dt from state->time to state->time + dt. `domain` adds the halo
+// exchange and migration of a multi-process run (a LocalDomain: nothing).
+template <int Dim>
+void explicit_step(const MpmSettings& settings, MpmState<Dim>* state, double dt, StepRecord* record,
+                   Domain& domain);
+
+// The damage update of one step alone, particles held still (tests): bins the particles and
+// computes their stress, then does what a step does for damage.
+template <int Dim>
+void damage_only_step(const MpmSettings& settings, MpmState<Dim>* state, double dt,
+                      StepRecord* record, Domain& domain);
+
+}  // namespace tear

@@ -1,0 +1,45 @@
+// The G2P phase: particle velocity, affine matrix, position and deformation gradient.
+#include "tear/exec/parallel.h"
+#include "tear/mpm/phases.h"
+
+#include <cmath>
+
+namespace tear {
+
+template <int Dim>
+void g2p(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
+  const SparseGrid<Dim>& grid = state->grid;
+  const Real inv_d = BSpline1D<kTransferOrder>::kInvD / Real(settings.dx * settings.dx);
+  const bool flip = settings.transfer == Transfer::Flip;
+  const Real ratio =
+      Real(settings.flip_relaxation_time > 0 ? std::exp(-double(dt) / settings.flip_relaxation_time)
+                                             : settings.flip_ratio);
+  // Particles are kept one cell inside the domain.
+  Vec<Dim> lo, hi;
+  for (int d = 0; d < Dim; ++d) {
+    lo[d] = Real(settings.domain_min[d] + settings.dx);
+    hi[d] = Real(settings.domain_max[d] - settings.dx);
+  }
+  for (Particles<Dim>& p : state->groups) {
+    parallel_for(p.size(), [&](size_t i) {
+      Vec<Dim> v = Vec<Dim>::Zero(), v_old = Vec<Dim>::Zero();
+      Mat<Dim> B = Mat<Dim>::Zero();
+      Stencil<Dim, kTransferOrder>(grid, p.x[i]).visit([&](int node, Real w, const Vec<Dim>& rel) {
+        const Vec<Dim> wv = w * grid.velocity[node];
+        v += wv;
+        for (int c = 0; c < Dim; ++c) B.col(c) += wv * rel[c];  // B += wv (x_i - x_p)^T
+        if (flip) v_old += w * grid.velocity_old[node];
+      });
+      const Mat<Dim> C = B * inv_d;  // velocity gradient estimate (APIC B D^-1)
+      p.C[i] = C;
+      p.F[i] = (Mat<Dim>::Identity() + dt * C) * p.F[i];
+      p.v[i] = flip ? Vec<Dim>(ratio * (p.v[i] + v - v_old) + (1 - ratio) * v) : v;
+      p.x[i] = (p.x[i] + dt * v).cwiseMax(lo).cwiseMin(hi);
+    });
+  }
+}
+
+template void g2p<2>(const MpmSettings&, MpmState<2>*, Real);
+template void g2p<3>(const MpmSettings&, MpmState<3>*, Real);
+
+}  // namespace tear

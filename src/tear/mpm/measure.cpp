@@ -1,0 +1,147 @@
+#include "tear/mpm/measure.h"
+
+#include "tear/damage/driving_force.h"
+#include "tear/exec/parallel.h"
+#include "tear/mpm/phases.h"
+
+#include <algorithm>
+
+namespace tear {
+
+namespace {
+// Sum over the groups (in order) of each group's deterministic sum of f(group, i); one group's
+// sum is returned as it is (no 0 + x, which would turn -0 into +0).
+template <int Dim, class T, class Fn>
+T sum_groups(const MpmState<Dim>& state, Fn&& f, T zero = T{}) {
+  if (state.groups.empty()) return zero;
+  auto group_sum = [&](const Particles<Dim>& p) {
+    return deterministic_sum<T>(
+        p.size(), [&](size_t i) { return f(p, i); }, zero);
+  };
+  T total = group_sum(state.groups[0]);
+  for (size_t g = 1; g < state.groups.size(); ++g) total += group_sum(state.groups[g]);
+  return total;
+}
+}  // namespace
+
+template <int Dim>
+double total_mass(const MpmState<Dim>& state) {
+  return sum_groups<Dim, double>(
+      state, [](const Particles<Dim>& p, size_t i) { return double(p.mass[i]); });
+}
+
+template <int Dim>
+Vec3d total_momentum(const MpmState<Dim>& state) {
+  return sum_groups<Dim, Vec3d>(
+      state,
+      [](const Particles<Dim>& p, size_t i) {
+        Vec3d m = Vec3d::Zero();
+        m.head<Dim>() = (p.mass[i] * p.v[i]).template cast<double>();
+        return m;
+      },
+      Vec3d::Zero());
+}
+
+template <int Dim>
+Vec3d total_angular_momentum(const MpmSettings& settings, const MpmState<Dim>& state) {
+  const bool apic = settings.transfer == Transfer::Apic;
+  const double k = settings.dx * settings.dx / BSpline1D<kTransferOrder>::kInvD;  // D = (dx^2/4) I
+  return sum_groups<Dim, Vec3d>(
+      state,
+      [&](const Particles<Dim>& p, size_t i) {
+        Vec3d x = Vec3d::Zero(), v = Vec3d::Zero();
+        x.head<Dim>() = p.x[i].template cast<double>();
+        v.head<Dim>() = p.v[i].template cast<double>();
+        const double m = p.mass[i];
+        Vec3d L = m * x.cross(v);
+        if (apic) {
+          Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+          C.topLeftCorner<Dim, Dim>() = p.C[i].template cast<double>();
+          // sum_i w (x_i - x_p) x C (x_i - x_p) = k (C_32 - C_23, C_13 - C_31, C_21 - C_12)
+          L += m * k * Vec3d(C(2, 1) - C(1, 2), C(0, 2) - C(2, 0), C(1, 0) - C(0, 1));
+        }
+        return L;
+      },
+      Vec3d::Zero());
+}
+
+template <int Dim>
+double kinetic_energy(const MpmState<Dim>& state) {
+  return sum_groups<Dim, double>(state, [](const Particles<Dim>& p, size_t i) {
+    return 0.5 * double(p.mass[i] * p.v[i].squaredNorm());
+  });
+}
+
+template <int Dim>
+double elastic_energy(const MpmSettings& settings, const MpmState<Dim>& state) {
+  return sum_groups<Dim, double>(state, [&](const Particles<Dim>& p, size_t i) {
+    const DamageParams& dp = settings.material_damage[p.material[i]];
+    const Real g = dp.enabled ? degradation(p.damage[i], Real(dp.residual)) : Real(1);
+    return double(p.vol0[i] *
+                  energy_density<Dim>(settings.materials[p.material[i]], p.F[i], p.fiber[i], g));
+  });
+}
+
+template <int Dim>
+StateFigures measure_state(const MpmSettings& settings, const MpmState<Dim>& state) {
+  StateFigures s;
+  s.particles = state.num_particles();
+  s.mass = total_mass(state);
+  s.momentum = total_momentum(state);
+  s.angular_momentum = total_angular_momentum(settings, state);
+  s.kinetic_energy = kinetic_energy(state);
+  s.elastic_energy = elastic_energy(settings, state);
+  const size_t n = s.particles;
+  if (n) {
+    for (const Particles<Dim>& p : state.groups)
+      s.max_damage =
+          std::max(s.max_damage, parallel_max<double>(
+                                     p.size(), [&](size_t i) { return p.damage[i]; }, 0.0));
+    s.mean_damage = sum_groups<Dim, double>(state, [](const Particles<Dim>& p,
+                                                      size_t i) { return double(p.damage[i]); }) /
+                    n;
+    s.damaged_fraction =
+        sum_groups<Dim, double>(state, [](const Particles<Dim>& p,
+                                          size_t i) { return p.damage[i] > 0.5 ? 1.0 : 0.0; }) /
+        n;
+  }
+  return s;
+}
+
+StateFigures reduce_figures(const StateFigures& local, const Domain& domain) {
+  if (domain.ranks() == 1) return local;
+  const double n = double(local.particles);
+  // Sums of all ranks; the damage means as sums of per-particle values.
+  double sums[12] = {n,
+                     local.mass,
+                     local.kinetic_energy,
+                     local.elastic_energy,
+                     local.mean_damage * n,
+                     local.damaged_fraction * n};
+  for (int k = 0; k < 3; ++k)
+    sums[6 + k] = local.momentum[k], sums[9 + k] = local.angular_momentum[k];
+  domain.sum(sums, 12);
+  StateFigures s;
+  s.particles = size_t(sums[0]);
+  s.mass = sums[1];
+  s.kinetic_energy = sums[2];
+  s.elastic_energy = sums[3];
+  s.mean_damage = sums[0] > 0 ? sums[4] / sums[0] : 0;
+  s.damaged_fraction = sums[0] > 0 ? sums[5] / sums[0] : 0;
+  for (int k = 0; k < 3; ++k) s.momentum[k] = sums[6 + k], s.angular_momentum[k] = sums[9 + k];
+  s.max_damage = domain.max(local.max_damage);
+  return s;
+}
+
+#define TEAR_MEASURE_INSTANTIATE(D)                                                 \
+  template double total_mass<D>(const MpmState<D>&);                                \
+  template Vec3d total_momentum<D>(const MpmState<D>&);                             \
+  template Vec3d total_angular_momentum<D>(const MpmSettings&, const MpmState<D>&); \
+  template double kinetic_energy<D>(const MpmState<D>&);                            \
+  template double elastic_energy<D>(const MpmSettings&, const MpmState<D>&);        \
+  template StateFigures measure_state<D>(const MpmSettings&, const MpmState<D>&);
+TEAR_MEASURE_INSTANTIATE(2)
+TEAR_MEASURE_INSTANTIATE(3)
+#undef TEAR_MEASURE_INSTANTIATE
+
+}  // namespace tear

@@ -1,0 +1,63 @@
+// The P2G phase: mass and momentum to the grid, with the stress as an affine momentum term.
+#include "tear/damage/driving_force.h"
+#include "tear/exec/parallel.h"
+#include "tear/mpm/phases.h"
+
+namespace tear {
+
+template <int Dim>
+Mat<Dim> p2g_stress(const MpmSettings& settings, const Particles<Dim>& p, size_t i) {
+  const DamageParams& dp = settings.material_damage[p.material[i]];
+  if (!dp.enabled) return p.stress[i];  // g = 1
+  // Damageable particles (qr_aniso only: the scene refuses damage on other models): the
+  // undegraded stress degraded in closed form, without a second QR, where det F > 0.
+  const MaterialParams& m = settings.materials[p.material[i]];
+  if (p.J[i] > 0) {
+    if (p.damage[i] == 0) return p.stress[i];
+    return degrade_qr_stress<Dim>(m, p.F[i], p.stress[i],
+                                  degradation(p.damage[i], Real(dp.residual)));
+  }
+  return first_piola<Dim>(m, p.F[i], p.fiber[i], degradation(p.damage[i], Real(dp.residual)));
+}
+
+template <int Dim>
+void p2g(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
+  SparseGrid<Dim>& grid = state->grid;
+  const Real inv_d = BSpline1D<kTransferOrder>::kInvD / Real(settings.dx * settings.dx);
+  const bool apic = settings.transfer == Transfer::Apic;
+  const bool flip = settings.transfer == Transfer::Flip;
+  for_each_colour(
+      SparseGrid<Dim>::kColours, state->groups.size(),
+      [&](size_t g, int c) -> const std::vector<int>& { return grid.bins(g).colours[c]; },
+      [&](size_t g, int b) {
+        const Particles<Dim>& p = state->groups[g];
+        const ParticleBins<Dim>& bins = grid.bins(g);
+        const auto& h = bins.home_blocks[size_t(b)];
+        for (uint32_t k = h.begin; k < h.end; ++k) {
+          const uint32_t i = bins.order[k];
+          const Mat<Dim> P = p2g_stress(settings, p, i);
+          // MLS-MPM: the stress enters as an affine momentum term (Hu et al. 2018, Eq. 29).
+          Mat<Dim> affine = (-dt * p.vol0[i] * inv_d) * (P * p.F[i].transpose());
+          const Real m = p.mass[i];
+          if (apic) affine += m * p.C[i];
+          const Vec<Dim> mv = m * p.v[i];
+          Stencil<Dim, kTransferOrder>(grid, p.x[i])
+              .visit([&](int node, Real w, const Vec<Dim>& rel) {
+                grid.mass[node] += w * m;
+                // mv + affine (x_i - x_p), column by column: Eigen's product temporaries here
+                // cost store-forwarding stalls.
+                Vec<Dim> dv = mv;
+                for (int c = 0; c < Dim; ++c) dv += affine.col(c) * rel[c];
+                grid.velocity[node] += w * dv;
+                if (flip) grid.velocity_old[node] += w * mv;  // force-free momentum
+              });
+        }
+      });
+}
+
+template Mat<2> p2g_stress<2>(const MpmSettings&, const Particles<2>&, size_t);
+template Mat<3> p2g_stress<3>(const MpmSettings&, const Particles<3>&, size_t);
+template void p2g<2>(const MpmSettings&, MpmState<2>*, Real);
+template void p2g<3>(const MpmSettings&, MpmState<3>*, Real);
+
+}  // namespace tear

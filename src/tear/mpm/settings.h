@@ -1,0 +1,41 @@
+// mpm/: the plain settings of an MPM simulation: grid, time step limits, transfer, gravity,
+// walls and colliders, materials and damage. scene/ fills them from a scene file; the solver
+// never sees the scene.
+#pragma once
+
+#include "tear/damage/damage_settings.h"
+#include "tear/grid/collider.h"
+#include "tear/materials/material.h"
+#include "tear/math/types.h"
+
+#include <vector>
+
+namespace tear {
+
+enum class Transfer { Apic, Pic, Flip };
+
+struct MpmSettings {
+  // Grid: nodes at domain_min + i dx; particles are kept one cell inside the domain.
+  double dx = 0.01;
+  Vec3d domain_min = Vec3d::Zero(), domain_max = Vec3d::Ones();  // z ignored in 2D
+  // Time step: dt = min(max_dt, cfl dx / wave speed, cfl dx / max|v|, the explicit damage
+  // limit) (ARCHITECTURE.md "One explicit step").
+  double cfl = 0.4;
+  double max_dt = 1e-3;
+  Vec3d gravity = Vec3d::Zero();
+  Transfer transfer = Transfer::Apic;
+  double flip_ratio = 0.95;
+  // > 0: FLIP's per-step ratio is exp(-dt / flip_relaxation_time) instead of flip_ratio, so
+  // particle velocities relax to the grid's at a rate that does not depend on the step.
+  double flip_relaxation_time = 0;
+  // Boundaries: the domain walls (ContactType::None: no walls) and analytic colliders.
+  ContactType walls = ContactType::Separate;
+  std::vector<Collider> colliders;
+  // Materials, indexed by a particle's material id: the constitutive model and its damage
+  // parameters (enabled = false: never damaged).
+  std::vector<MaterialParams> materials;
+  std::vector<DamageParams> material_damage;
+  DamageSettings damage;
+};
+
+}  // namespace tear

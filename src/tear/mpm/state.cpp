@@ -1,0 +1,21 @@
+#include "tear/mpm/state.h"
+
+#include "tear/mpm/phases.h"
+
+namespace tear {
+
+template <int Dim>
+MpmState<Dim> make_mpm_state(const MpmSettings& settings, std::vector<Particles<Dim>> groups) {
+  MpmState<Dim> state;
+  state.groups = std::move(groups);
+  if (settings.damage.solver != DamageSolver::None)
+    for (Particles<Dim>& g : state.groups) g.enable("drive");
+  state.grid.setup(settings.domain_min, settings.domain_max, settings.dx);
+  sort_particles(&state);
+  return state;
+}
+
+template MpmState<2> make_mpm_state<2>(const MpmSettings&, std::vector<Particles<2>>);
+template MpmState<3> make_mpm_state<3>(const MpmSettings&, std::vector<Particles<3>>);
+
+}  // namespace tear

@@ -1,0 +1,34 @@
+// mpm/: the state of an MPM simulation, plain data: the particle groups, the sparse grid, time
+// and step counter. The step's phases (mpm/phases.h) and integrators (mpm/explicit_step.h) are
+// free functions over it.
+#pragma once
+
+#include "tear/grid/sparse_grid.h"
+#include "tear/mpm/settings.h"
+#include "tear/particles/particles.h"
+
+#include <vector>
+
+namespace tear {
+
+template <int Dim>
+struct MpmState {
+  std::vector<Particles<Dim>> groups;
+  SparseGrid<Dim> grid;
+  double time = 0;
+  long steps = 0;
+
+  size_t num_particles() const {
+    size_t n = 0;
+    for (const Particles<Dim>& g : groups) n += g.size();
+    return n;
+  }
+};
+
+// The state at time 0 of `groups` under `settings`: the grid set up over the domain, the
+// optional fields the settings need enabled (the damage history where damage is simulated),
+// particles sorted into grid blocks.
+template <int Dim>
+MpmState<Dim> make_mpm_state(const MpmSettings& settings, std::vector<Particles<Dim>> groups);
+
+}  // namespace tear

@@ -1,0 +1,106 @@
+#include "tear/particles/field.h"
+
+#include <stdexcept>
+
+namespace tear {
+
+size_t FieldRegistry::size() const {
+  for (const Entry& e : entries_)
+    if (!e.info_.optional && !e.derived()) return field_size(e);
+  return 0;
+}
+
+void FieldRegistry::add_derived(FieldColumns columns,
+                                void (*value)(const FieldRegistry&, size_t, double*)) {
+  Entry e;
+  e.info_.name = columns.names.empty() ? std::string() : columns.names[0];
+  e.info_.role = FieldRole::Scratch;
+  e.info_.columns = std::move(columns);
+  e.derived_ = value;
+  entries_.push_back(std::move(e));
+  enabled_.push_back(0);
+}
+
+void FieldRegistry::columns(const Entry& e, size_t i, double* out) const {
+  const int n = int(e.info_.columns.names.size());
+  if (e.derived_) return e.derived_(*this, i, out);
+  for (int k = 0; k < n; ++k) out[k] = k < e.components_ ? e.component_(at(e), i, k) : 0.0;
+}
+
+void FieldRegistry::resize(size_t n) {
+  for (const Entry& e : entries_)
+    if (stored(e)) e.resize_(at(e), n, e.default_.data());
+}
+
+void FieldRegistry::reserve(size_t n) {
+  for (const Entry& e : entries_)
+    if (stored(e)) e.reserve_(at(e), n);
+}
+
+size_t FieldRegistry::append() {
+  const size_t i = size();
+  resize(i + 1);
+  return i;
+}
+
+void FieldRegistry::permute(const std::vector<uint32_t>& order) {
+  TEAR_ASSERT(order.size() == size());
+  for (const Entry& e : entries_)
+    if (e.info_.role == FieldRole::State && stored(e)) e.permute_(at(e), order, &scratch_);
+}
+
+void FieldRegistry::erase(const std::vector<uint32_t>& which) {
+  for (const Entry& e : entries_)
+    if (stored(e)) e.erase_(at(e), which);
+}
+
+const FieldRegistry::Entry* FieldRegistry::find(const std::string& name) const {
+  for (const Entry& e : entries_)
+    if (e.info_.name == name) return &e;
+  return nullptr;
+}
+
+void FieldRegistry::enable(const std::string& name) {
+  const Entry* e = find(name);
+  if (!e) throw std::invalid_argument("no particle field \"" + name + "\"");
+  if (!e->info_.optional)
+    throw std::invalid_argument("particle field \"" + name + "\" is not optional");
+  const size_t k = index_of(*e);
+  if (enabled_[k]) return;
+  enabled_[k] = 1;
+  e->resize_(at(*e), size(), e->default_.data());
+}
+
+void FieldRegistry::enable_like(const FieldRegistry& other) {
+  TEAR_ASSERT(other.entries_.size() == entries_.size());
+  for (size_t k = 0; k < entries_.size(); ++k)
+    if (entries_[k].info_.optional && other.enabled_[k]) enable(entries_[k].info_.name);
+}
+
+bool FieldRegistry::stored(const Entry& e) const { return !e.derived() && enabled(e); }
+
+bool FieldRegistry::enabled(const std::string& name) const {
+  const Entry* e = find(name);
+  return e && enabled(*e);
+}
+
+void FieldRegistry::assign_field(const Entry& e, const char* bytes, size_t count) {
+  e.resize_(at(e), count, e.default_.data());
+  if (count) std::memcpy(e.data_(at(e)), bytes, count * e.element_bytes_);
+}
+
+size_t FieldRegistry::bytes_per_particle() const {
+  size_t bytes = 0;
+  for (const Entry& e : entries_)
+    if (stored(e)) bytes += e.element_bytes_;
+  return bytes;
+}
+
+size_t FieldRegistry::memory_bytes() const {
+  size_t bytes = scratch_.capacity();
+  for (const Entry& e : entries_)
+    if (stored(e)) bytes += e.capacity_(at(e)) * e.element_bytes_;
+  return bytes;
+}
+
+}  // namespace tear

@@ -1,0 +1,132 @@
+// Colliders and domain walls acting on grid velocities (grid/collider.h).
+#include "tear/grid/collider.h"
+#include "tear/grid/sparse_grid.h"
+
+#include <gtest/gtest.h>
+#include <Eigen/Geometry>
+
+#include <random>
+
+namespace tear {
+namespace {
+
+std::vector<Vec<2>> random_points(int n, double lo, double hi, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(lo, hi);
+  std::vector<Vec<2>> x(n);
+  for (auto& p : x)
+    for (int d = 0; d < 2; ++d) p[d] = Real(u(rng));
+  return x;
+}
+
+TEST(Collider, StickyTakesTheWallVelocity) {
+  const Vec<2> v(1, -2), vw(0.5, 0), n(0, 1);
+  EXPECT_EQ(contact_velocity<2>(v, vw, n, ContactType::Sticky, 0), vw);
+}
+
+TEST(Collider, SlipRemovesNormalRelativeVelocityBothWays) {
+  const Vec<2> n(0, 1);
+  EXPECT_TRUE(contact_velocity<2>(Vec<2>(1, -2), Vec<2>::Zero(), n, ContactType::Slip, 0)
+                  .isApprox(Vec<2>(1, 0)));
+  EXPECT_TRUE(contact_velocity<2>(Vec<2>(1, 2), Vec<2>::Zero(), n, ContactType::Slip, 0)
+                  .isApprox(Vec<2>(1, 0)));
+}
+
+TEST(Collider, SeparateOnlyStopsApproachAndFrictionSlowsTangent) {
+  const Vec<2> n(0, 1);
+  EXPECT_EQ(contact_velocity<2>(Vec<2>(1, 2), Vec<2>::Zero(), n, ContactType::Separate, 0.5),
+            Vec<2>(1, 2));
+  // |v_t| = 1, |v_n| = 1, mu = 0.5: tangential speed drops to 0.5.
+  EXPECT_TRUE(contact_velocity<2>(Vec<2>(1, -1), Vec<2>::Zero(), n, ContactType::Separate, 0.5)
+                  .isApprox(Vec<2>(0.5, 0)));
+  // mu large enough: the tangent stops.
+  EXPECT_TRUE(
+      contact_velocity<2>(Vec<2>(1, -1), Vec<2>::Zero(), n, ContactType::Separate, 2).isZero());
+}
+
+TEST(Collider, ColliderMovesOnlyDuringItsWindow) {
+  Collider b;
+  b.velocity = Vec3d(1, 0, 0);
+  b.start = 1, b.end = 2;
+  EXPECT_FALSE(collider_state(b, 0.5).active);
+  const ColliderState s = collider_state(b, 1.5);
+  EXPECT_TRUE(s.active);
+  EXPECT_TRUE(s.displacement.isApprox(Vec3d(0.5, 0, 0)));
+  EXPECT_FALSE(collider_state(b, 2.5).active);
+}
+
+// Every active node of a grid over [0.2, 0.8]^2 with unit mass and velocity `v`.
+SparseGrid<2> filled_grid(const Vec<2>& v) {
+  SparseGrid<2> g;
+  g.setup(Vec3d::Zero(), Vec3d::Ones(), 1.0 / 32);
+  g.bin(random_points(4000, 0.2, 0.8, 7));
+  for (size_t i = 0; i < g.mass.size(); ++i) g.mass[i] = 1, g.velocity[i] = v;
+  return g;
+}
+
+TEST(Collider, SpinningStickyColliderImposesRigidVelocity) {
+  SparseGrid<2> g = filled_grid(Vec<2>(3, 3));
+  Collider b;
+  b.type = ContactType::Sticky;
+  b.shape.type = Shape::Type::Box;
+  b.shape.dim = 2;
+  b.shape.min = Vec3d(0.4, 0.4, 0);
+  b.shape.max = Vec3d(0.6, 0.6, 0);
+  b.velocity = Vec3d(0.1, 0, 0);
+  b.angular_velocity = Vec3d(0, 0, 2);
+  const double t = 0.25;  // moved by 0.025 and turned by 0.5 rad about its centre
+  apply_colliders<2>(g, ContactType::None, {b}, t);
+  const Vec3d centre(0.5 + 0.1 * t, 0.5, 0);
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.5, Vec3d::UnitZ()).toRotationMatrix();
+  int inside = 0, outside = 0;
+  for (size_t i = 0; i < g.mass.size(); ++i) {
+    const Vec<2> x = g.node_position(int(i));
+    const Vec3d local = R.transpose() * (Vec3d(x[0], x[1], 0) - centre);
+    const bool in = local.head<2>().cwiseAbs().maxCoeff() < 0.1 - 1e-9;
+    const bool out = local.head<2>().cwiseAbs().maxCoeff() > 0.1 + 1e-9;
+    if (in) {
+      const Vec3d rigid = b.velocity + b.angular_velocity.cross(Vec3d(x[0], x[1], 0) - centre);
+      EXPECT_LT((g.velocity[i] - rigid.head<2>()).norm(), 1e-12);
+      ++inside;
+    } else if (out) {
+      EXPECT_EQ(g.velocity[i], Vec<2>(3, 3));
+      ++outside;
+    }
+  }
+  EXPECT_GT(inside, 20);
+  EXPECT_GT(outside, 100);
+}
+
+TEST(Collider, HalfSpaceAndDomainWallsStopApproachingNodes) {
+  SparseGrid<2> g = filled_grid(Vec<2>(0.5, -1));
+  Collider floor;
+  floor.type = ContactType::Separate;
+  floor.friction = 0.25;
+  floor.shape.type = Shape::Type::HalfSpace;
+  floor.shape.dim = 2;
+  floor.shape.point = Vec3d(0, 0.5, 0);
+  floor.shape.normal = Vec3d(0, 1, 0);
+  apply_colliders<2>(g, ContactType::Sticky, {floor}, 0);
+  int wall = 0, below = 0, above = 0;
+  for (size_t i = 0; i < g.mass.size(); ++i) {
+    const Vec<2> x = g.node_position(int(i));
+    const IVec<2> c = g.node_coord(int(i));
+    if (c.minCoeff() < kWallNodes || c.maxCoeff() > g.num_nodes().maxCoeff() - 1 - kWallNodes) {
+      EXPECT_TRUE(g.velocity[i].isZero());  // sticky domain wall
+      ++wall;
+    } else if (x[1] < 0.5 - 1e-9) {
+      // Inside the floor: normal part removed, tangent reduced by friction * |v_n| = 0.25.
+      EXPECT_LT((g.velocity[i] - Vec<2>(0.25, 0)).norm(), 1e-12) << g.velocity[i].transpose();
+      ++below;
+    } else if (x[1] > 0.5 + 1e-9) {
+      EXPECT_EQ(g.velocity[i], Vec<2>(0.5, -1));
+      ++above;
+    }
+  }
+  EXPECT_GT(wall, 50);
+  EXPECT_GT(below, 100);
+  EXPECT_GT(above, 100);
+}
+
+}  // namespace
+}  // namespace tear

@@ -1,0 +1,181 @@
+// The field registry: a field declared once is resized, appended, permuted, erased, written to
+// frame tables and checkpoints, migrated and counted in memory figures without any other code
+// naming it.
+#include "tear/io/field_io.h"
+#include "tear/particles/particles.h"
+#include "tear/particles/records.h"
+
+#include <gtest/gtest.h>
+
+#include <numeric>
+
+namespace tear {
+namespace {
+
+// A store with fields that no other code knows: one state field written to frames, one
+// optional state field, one scratch field.
+struct TestStore : Particles<2> {
+  Field<Real> test_only{this, state_field("test_only", {{"test_only"}, ColumnType::Float32}), 7};
+  Field<int32_t> sometimes{this, optional_state_field("sometimes"), -3};
+  Field<Vec<2>> temp{this, scratch_field("temp"), Vec<2>(1, 2)};
+};
+
+TestStore store_of(size_t n) {
+  TestStore s;
+  for (size_t i = 0; i < n; ++i)
+    s.push_back(Vec<2>(Real(i), Real(2 * i)), Vec<2>(Real(i), 0), Mat<2>::Identity(), 1, 1,
+                uint16_t(i % 3));
+  for (size_t i = 0; i < n; ++i) s.test_only[i] = Real(100 + i);
+  return s;
+}
+
+TEST(FieldRegistry, ADeclaredFieldIsSizedWithTheStoreAtItsDefault) {
+  TestStore s = store_of(4);
+  EXPECT_EQ(s.size(), 4u);
+  EXPECT_EQ(s.test_only.size(), 4u);
+  EXPECT_EQ(s.temp.size(), 4u);
+  EXPECT_EQ(s.temp[3], Vec<2>(1, 2));
+  EXPECT_TRUE(s.sometimes.empty());  // optional, not enabled
+  s.resize(6);
+  EXPECT_EQ(s.test_only[5], 7);
+  EXPECT_EQ(s.F[5], Mat<2>::Identity());
+  EXPECT_EQ(s.reorder_slot[5], -1);
+  s.enable("sometimes");
+  ASSERT_EQ(s.sometimes.size(), 6u);
+  EXPECT_EQ(s.sometimes[0], -3);
+  EXPECT_THROW(s.enable("test_only"), std::invalid_argument);
+  EXPECT_THROW(s.enable("nope"), std::invalid_argument);
+}
+
+TEST(FieldRegistry, PermuteMovesStateFieldsAndLeavesScratch) {
+  TestStore s = store_of(5);
+  s.enable("sometimes");
+  for (size_t i = 0; i < 5; ++i) s.sometimes[i] = int32_t(10 * i), s.temp[i] = Vec<2>(Real(i), 0);
+  const std::vector<uint32_t> order = {3, 0, 4, 1, 2};
+  s.permute(order);
+  for (size_t k = 0; k < 5; ++k) {
+    EXPECT_EQ(s.id[k], order[k]);
+    EXPECT_EQ(s.test_only[k], Real(100 + order[k]));
+    EXPECT_EQ(s.sometimes[k], int32_t(10 * order[k]));
+    EXPECT_EQ(s.temp[k][0], Real(k));  // scratch: recomputed before use, not moved
+  }
+}
+
+TEST(FieldRegistry, MemoryFigureCountsEveryEnabledField) {
+  TestStore s = store_of(3);
+  Particles<2> plain;
+  const size_t extra = sizeof(Real) + sizeof(Vec<2>);  // test_only + temp
+  EXPECT_EQ(s.bytes_per_particle(), plain.bytes_per_particle() + extra);
+  s.enable("sometimes");
+  EXPECT_EQ(s.bytes_per_particle(), plain.bytes_per_particle() + extra + sizeof(int32_t));
+}
+
+TEST(FieldRegistry, CopiesListTheirOwnFields) {
+  TestStore a = store_of(3);
+  TestStore b = a;  // the registry's entries must point into b, not a
+  b.test_only[1] = 42;
+  b.resize(4);
+  EXPECT_EQ(a.test_only[1], Real(101));
+  EXPECT_EQ(a.size(), 3u);
+  EXPECT_EQ(b.test_only.size(), 4u);
+  TestStore c = std::move(b);
+  c.resize(5);
+  EXPECT_EQ(c.test_only[1], 42);
+  EXPECT_EQ(c.test_only[4], 7);
+}
+
+TEST(FieldRegistry, FrameTableHasTheDeclaredColumnsInIdOrder) {
+  TestStore s = store_of(4);
+  s.permute({2, 3, 0, 1});
+  const PointTable t = frame_table(s, rows_by_id(s.id));
+  const std::vector<std::string> names = {"id",     "x",        "y",  "z",  "vx", "vy",       "vz",
+                                          "damage", "material", "fx", "fy", "fz", "test_only"};
+  EXPECT_EQ(t.names, names);
+  for (size_t k = 0; k < 4; ++k) {
+    EXPECT_EQ(t.column("id")[k], double(k));
+    EXPECT_EQ(t.column("y")[k], double(2 * k));
+    EXPECT_EQ(t.column("z")[k], 0.0);
+    EXPECT_EQ(t.column("test_only")[k], double(100 + k));
+    EXPECT_EQ(t.column("fx")[k], 1.0);
+  }
+  EXPECT_EQ(t.types[0], ColumnType::Int32);
+  EXPECT_EQ(t.types[8], ColumnType::UInt8);
+}
+
+TEST(FieldRegistry, CheckpointRecordsRoundTripEveryStateField) {
+  TestStore s = store_of(5);
+  s.enable("sometimes");
+  for (size_t i = 0; i < 5; ++i) s.sometimes[i] = int32_t(i * i), s.F[i](0, 1) = Real(i);
+  ByteWriter w;
+  put_fields(s, &w);
+  TestStore back;
+  back.enable_like(s);
+  ByteReader r(w.bytes());
+  get_fields(&r, 5, &back);
+  EXPECT_TRUE(r.at_end());
+  ASSERT_EQ(back.size(), 5u);
+  EXPECT_EQ(back.temp.size(), 5u);  // scratch sized, not read
+  for (size_t i = 0; i < 5; ++i) {
+    EXPECT_EQ(back.test_only[i], s.test_only[i]);
+    EXPECT_EQ(back.sometimes[i], int32_t(i * i));
+    EXPECT_EQ(back.F[i], s.F[i]);
+    EXPECT_EQ(back.x[i], s.x[i]);
+  }
+}
+
+TEST(FieldRegistry, CheckpointOfOtherFieldsIsRefusedByName) {
+  TestStore s = store_of(2);
+  s.enable("sometimes");
+  ByteWriter w;
+  put_fields(s, &w);
+  auto error_of = [](const std::string& bytes, size_t n, TestStore* store) {
+    ByteReader r(bytes);
+    try {
+      get_fields(&r, n, store);
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  TestStore without;  // "sometimes" not enabled: the checkpoint has one field more
+  EXPECT_NE(error_of(w.bytes(), 2, &without).find("more than"), std::string::npos);
+  // A store that declares a field the checkpoint lacks names it.
+  ByteWriter w_without;
+  put_fields(without = store_of(2), &w_without);
+  TestStore with;
+  with.enable("sometimes");
+  const std::string missing = error_of(w_without.bytes(), 2, &with);
+  EXPECT_NE(missing.find("corrupt checkpoint"), std::string::npos) << missing;
+  EXPECT_NE(missing.find("\"sometimes\""), std::string::npos) << missing;
+  TestStore other;
+  other.enable("sometimes");
+  ByteReader r2(w.bytes());
+  EXPECT_THROW(get_fields(&r2, 3, &other), std::runtime_error);  // wrong particle count
+  ByteReader r3(w.bytes().substr(0, w.bytes().size() - 1));
+  EXPECT_THROW(get_fields(&r3, 2, &other), std::runtime_error);  // truncated
+}
+
+TEST(FieldRegistry, MigrationRecordsRoundTrip) {
+  TestStore s = store_of(6);
+  RegistryRecords records(&s, "x");
+  double pos[3];
+  records.position(4, pos);
+  EXPECT_EQ(pos[0], 4.0);
+  EXPECT_EQ(pos[1], 8.0);
+  EXPECT_EQ(pos[2], 0.0);
+  std::string packed;
+  records.pack({1, 4}, &packed);
+  EXPECT_EQ(packed.size(), 2 * records.record_bytes());
+  records.erase({1, 4});
+  ASSERT_EQ(s.size(), 4u);
+  EXPECT_EQ(s.id[1], 2u);
+  records.append(packed);
+  ASSERT_EQ(s.size(), 6u);
+  EXPECT_EQ(s.id[4], 1u);
+  EXPECT_EQ(s.id[5], 4u);
+  EXPECT_EQ(s.test_only[5], Real(104));
+  EXPECT_EQ(s.temp.size(), 6u);
+}
+
+}  // namespace
+}  // namespace tear
