@@ -20,7 +20,8 @@ class MpmSim {
   explicit MpmSim(const Scene& scene) : MpmSim(scene, sample_scene<Dim>(scene)) {}
   // Uses the given particles instead.
   MpmSim(const Scene& scene, Particles<Dim> particles)
-      : MpmSim(scene, std::vector<Particles<Dim>>{std::move(particles)}) {}
+      : settings_(mpm_settings(scene)),
+        state_(make_mpm_state<Dim>(settings_, std::move(particles))) {}
   // Several particle groups.
   MpmSim(const Scene& scene, std::vector<Particles<Dim>> groups)
       : settings_(mpm_settings(scene)), state_(make_mpm_state<Dim>(settings_, std::move(groups))) {}

@@ -21,7 +21,7 @@ double since(Clock::time_point t0) {
 // The benchmark block's settings and state, stepped by the explicit integrator.
 struct BenchRun {
   explicit BenchRun(const Scene& s)
-      : settings(mpm_settings(s)), state(make_mpm_state<3>(settings, {sample_scene<3>(s)})) {}
+      : settings(mpm_settings(s)), state(make_mpm_state<3>(settings, sample_scene<3>(s))) {}
   double estimate_dt() const { return dt_limits(settings, state, domain).dt(); }
   void step(double dt) { explicit_step(settings, &state, dt, &record, domain); }
   MpmSettings settings;

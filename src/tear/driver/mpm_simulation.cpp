@@ -26,7 +26,7 @@ class MpmSimulation final : public Simulation {
   explicit MpmSimulation(const Scene& scene)
       : settings_(mpm_settings(scene)),
         frame_dt_(scene.frame_dt),
-        state_(make_mpm_state<Dim>(settings_, {sample_scene<Dim>(scene)})),
+        state_(make_mpm_state<Dim>(settings_, sample_scene<Dim>(scene))),
         start_(std::chrono::steady_clock::now()) {}
 
   int dim() const override { return Dim; }
@@ -95,14 +95,18 @@ class MpmSimulation final : public Simulation {
     return s;
   }
 
-  PointTable frame_table() const override {
+  const PointTable& frame_table() const override {
     const Particles<Dim>& p = state_.groups.at(0);  // one group per scene today
-    return tear::frame_table(p, rows_by_id(p.id));
+    fill_frame_table(p, rows_by_id(p.id), &table_);
+    return table_;
   }
 
   std::string encode_checkpoint() const override {
     ByteWriter w;
     w.bytes() = kCheckpointMagic;
+    size_t bytes = 256;  // the header
+    for (const Particles<Dim>& g : state_.groups) bytes += fields_bytes(g);
+    w.bytes().reserve(bytes);  // one allocation: growing by doubling costs more than the copy
     w.put<int32_t>(Dim);
     w.put<int32_t>(sizeof(Real));
     w.put<uint32_t>(uint32_t(state_.groups.size()));
@@ -170,6 +174,12 @@ class MpmSimulation final : public Simulation {
     record_.damage = ds;
   }
 
+  std::vector<std::pair<std::string, double>> phase_seconds() const override {
+    const PhaseTimes& t = record_.times;
+    return {{"sort", t.sort}, {"stress", t.stress}, {"damage", t.damage},
+            {"p2g", t.p2g},   {"grid", t.grid},     {"g2p", t.g2p}};
+  }
+
   size_t memory_bytes() const override {
     size_t bytes = state_.grid.memory_bytes();
     for (const Particles<Dim>& g : state_.groups) bytes += g.memory_bytes();
@@ -183,6 +193,7 @@ class MpmSimulation final : public Simulation {
   StepRecord record_;
   LocalDomain domain_;
   std::chrono::steady_clock::time_point start_;
+  mutable PointTable table_;  // frame_table()'s, reused
   int frame_ = 0;
   long steps_since_stats_ = 0;
   double dt_min_ = std::numeric_limits<double>::infinity(), dt_max_ = 0;

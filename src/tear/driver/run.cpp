@@ -3,6 +3,7 @@
 #include "tear/damage/driving_force.h"
 #include "tear/driver/command.h"
 #include "tear/driver/convert.h"
+#include "tear/exec/phase_timer.h"
 #include "tear/exec/threads.h"
 #include "tear/io/atomic_file.h"
 #include "tear/io/frames.h"
@@ -38,10 +39,11 @@ namespace {
 
 // The frame in every format the scene asks for; with vtu, DIR/frames.pvd lists it at its time
 // (recorded in `vtu_times`, the times of the frames written before). Returns the frame's table
-// (for --render).
-PointTable write_frame(const std::string& dir, int frame, const Simulation& sim,
-                       const std::vector<std::string>& formats, std::map<int, double>* vtu_times) {
-  PointTable table = sim.frame_table();
+// (for --render; valid until the next frame_table()).
+const PointTable& write_frame(const std::string& dir, int frame, const Simulation& sim,
+                              const std::vector<std::string>& formats,
+                              std::map<int, double>* vtu_times) {
+  const PointTable& table = sim.frame_table();
   for (const std::string& f : formats)
     write_file_atomic(frame_path(dir, frame, f), encode_points(table, f));
   if (std::find(formats.begin(), formats.end(), "vtu") != formats.end()) {
@@ -215,7 +217,7 @@ int run_scene(const RunOptions& o) {
       fs::remove(dir / "frames.pvd");
       make_directories((dir / "frames").string());
       write_file_atomic((dir / "scene.json").string(), scene.resolved.dump(2) + "\n");
-      const PointTable first = write_frame(o.out_dir, 0, *sim, scene.formats, &vtu_times);
+      const PointTable& first = write_frame(o.out_dir, 0, *sim, scene.formats, &vtu_times);
       if (renderer) {
         renderer->clear();
         renderer->render(0, first);
@@ -229,10 +231,18 @@ int run_scene(const RunOptions& o) {
     Progress progress(!o.quiet, scene.frames, sim->frame());
     const long steps_before = sim->total_steps();
     bool warned_unconverged = false;
+    // Where the run's time goes (the summary line at the end).
+    double setup_s = seconds_since(start), stepping_s = 0, stats_s = 0, output_s = 0;
     while (sim->frame() < scene.frames) {
-      sim->advance_frame();
+      {
+        PhaseTimer timer(&stepping_s);
+        sim->advance_frame();
+      }
       const int frame = sim->frame();
+      const auto stats_start = Clock::now();
       FrameStats s = sim->collect_stats();
+      stats_s += seconds_since(stats_start);
+      const auto output_start = Clock::now();
       s.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
       if (!std::isfinite(s.kinetic_energy) || !std::isfinite(s.momentum.norm()))
         return fail("the simulation became unstable at frame " + std::to_string(frame) +
@@ -247,7 +257,7 @@ int run_scene(const RunOptions& o) {
         warned_unconverged = true;
       }
       if (frame % scene.output_every == 0 || frame == scene.frames) {
-        const PointTable table = write_frame(o.out_dir, frame, *sim, scene.formats, &vtu_times);
+        const PointTable& table = write_frame(o.out_dir, frame, *sim, scene.formats, &vtu_times);
         if (renderer) renderer->render(frame, table);
       }
       stats.push_back(s.to_json().dump());
@@ -255,11 +265,23 @@ int run_scene(const RunOptions& o) {
       if ((scene.checkpoint_every > 0 && frame % scene.checkpoint_every == 0) ||
           frame == scene.frames)
         write_file_atomic(checkpoint_path, sim->encode_checkpoint());
+      output_s += seconds_since(output_start);
       progress.update(frame, sim->time(), sim->total_steps() - steps_before);
     }
     const double wall = std::chrono::duration<double>(Clock::now() - start).count();
     std::printf("wrote %d frames (%zu particles, %ld steps) to %s in %.1f s\n", scene.frames,
                 sim->num_particles(), sim->total_steps(), o.out_dir.c_str(), wall);
+    std::string phases;
+    for (const auto& [name, seconds] : sim->phase_seconds()) {
+      if (seconds == 0) continue;
+      char buf[64];
+      std::snprintf(buf, sizeof(buf), "%s%s %.1f", phases.empty() ? "" : ", ", name.c_str(), seconds);
+      phases += buf;
+    }
+    std::printf("time: %.1f s stepping (%s), %.1f s writing frames and checkpoints%s, %.1f s "
+                "statistics, %.1f s loading, sampling and the first frame\n",
+                stepping_s, phases.c_str(), output_s, renderer ? " and rendering" : "", stats_s,
+                setup_s);
     if (renderer) std::printf("%s\n", renderer->finish().c_str());
     return 0;
   } catch (const std::exception& e) {

@@ -12,6 +12,8 @@
 
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace tear {
 
@@ -56,8 +58,11 @@ class Simulation {
   // Statistics of the current state; step figures are those since the last call.
   virtual FrameStats collect_stats() = 0;
   // The current particles as the frame files' columns (ARCHITECTURE.md "Outputs"), rows in id
-  // order; io/frames.h encodes it in each output format.
-  virtual PointTable frame_table() const = 0;
+  // order; io/frames.h encodes it in each output format. Valid until the next call (the
+  // simulation reuses its storage from frame to frame).
+  virtual const PointTable& frame_table() const = 0;
+  // Wall seconds spent so far in each phase of the step, in step order (for people).
+  virtual std::vector<std::pair<std::string, double>> phase_seconds() const = 0;
   // Bytes of memory now held by particles and grid.
   virtual size_t memory_bytes() const = 0;
   // Restartable state: particles in their current order, time, frame and step counters.

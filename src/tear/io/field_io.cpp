@@ -9,20 +9,54 @@ namespace tear {
 
 PointTable frame_table(const FieldRegistry& store, const std::vector<uint32_t>& rows) {
   PointTable t;
-  t.count = rows.size();
+  fill_frame_table(store, rows, &t);
+  return t;
+}
+
+void fill_frame_table(const FieldRegistry& store, const std::vector<uint32_t>& rows,
+                      PointTable* table) {
+  // The columns, in order: (entry, its column k).
+  std::vector<std::pair<const FieldRegistry::Entry*, size_t>> columns;
+  std::vector<std::string> names;
+  std::vector<ColumnType> types;
   for (const FieldRegistry::Entry& e : store.entries()) {
     const FieldColumns& c = e.info().columns;
     if (c.names.empty() || !store.enabled(e)) continue;
-    const size_t n = c.names.size();
-    std::vector<std::vector<double>> values(n, std::vector<double>(rows.size()));
+    for (size_t k = 0; k < c.names.size(); ++k) {
+      columns.emplace_back(&e, k);
+      names.push_back(c.names[k]);
+      types.push_back(c.type);
+    }
+  }
+  PointTable& t = *table;
+  if (t.names != names || t.types != types) {
+    t = PointTable();
+    t.names = names;
+    t.types = types;
+    t.columns.resize(names.size());
+  }
+  t.count = rows.size();
+  for (std::vector<double>& c : t.columns) c.resize(rows.size());
+  for (size_t j = 0; j < columns.size();) {
+    const FieldRegistry::Entry& e = *columns[j].first;
+    const size_t n = e.info().columns.names.size();
     parallel_for(rows.size(), [&](size_t k) {
       double row[8];
       store.columns(e, rows[k], row);
-      for (size_t j = 0; j < n; ++j) values[j][k] = row[j];
+      for (size_t c = 0; c < n; ++c) t.columns[j + c][k] = row[c];
     });
-    for (size_t j = 0; j < n; ++j) t.add(c.names[j], c.type, std::move(values[j]));
+    j += n;
   }
-  return t;
+}
+
+size_t fields_bytes(const FieldRegistry& store) {
+  size_t bytes = sizeof(uint32_t);
+  for (const FieldRegistry::Entry& e : store.entries()) {
+    if (e.info().role != FieldRole::State || !store.stored(e)) continue;
+    bytes += 2 * sizeof(uint32_t) + sizeof(uint64_t) + e.info().name.size() +
+             store.field_size(e) * e.element_bytes();
+  }
+  return bytes;
 }
 
 std::vector<uint32_t> rows_by_id(const std::vector<uint32_t>& id) {

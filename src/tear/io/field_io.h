@@ -15,6 +15,14 @@ namespace tear {
 // The frame columns of every enabled field (and derived columns) of `store`, in declaration
 // order; row k is particle rows[k].
 PointTable frame_table(const FieldRegistry& store, const std::vector<uint32_t>& rows);
+// The same into `table`, reusing its columns' storage when it holds a table of the same shape
+// (a run writes a frame of the same particles again and again: fresh pages cost more than the
+// copy).
+void fill_frame_table(const FieldRegistry& store, const std::vector<uint32_t>& rows,
+                      PointTable* table);
+
+// Bytes put_fields writes for `store`.
+size_t fields_bytes(const FieldRegistry& store);
 
 // rows[k] = the index of the particle whose id is k (ids must be a permutation of 0..n-1): frame
 // rows in id order, so frames compare row by row across frames and runs.

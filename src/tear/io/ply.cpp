@@ -1,8 +1,10 @@
 #include "tear/io/ply.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <stdexcept>
 
+#include "tear/exec/parallel.h"
 #include "tear/io/endian.h"
 #include "tear/io/ply_header.h"
 
@@ -44,19 +46,23 @@ std::string encode_ply(const PointTable& t) {
   out += "end_header\n";
   const size_t header = out.size();
   out.resize(header + row * t.count);
-  // Vertex-major: row i holds every column's value i. Values must fit the column's type.
-  char* p = &out[header];
-  for (size_t i = 0; i < t.count; ++i) {
-    for (size_t c = 0; c < t.names.size(); ++c) {
-      const double v = t.columns[c][i];
-      switch (t.types[c]) {
-        case ColumnType::Int32: store_le(p, int32_t(v)), p += 4; break;
-        case ColumnType::UInt8: store_le(p, uint8_t(v)), p += 1; break;
-        case ColumnType::Float32: store_le(p, float(v)), p += 4; break;
-        case ColumnType::Float64: store_le(p, v), p += 8; break;
+  // Vertex-major: row i holds every column's value i. Values must fit the column's type. Rows
+  // are independent: chunks of them in parallel.
+  constexpr size_t kRows = 4096;
+  parallel_for((t.count + kRows - 1) / kRows, [&](size_t chunk) {
+    char* p = &out[header + chunk * kRows * row];
+    for (size_t i = chunk * kRows; i < std::min(t.count, (chunk + 1) * kRows); ++i) {
+      for (size_t c = 0; c < t.names.size(); ++c) {
+        const double v = t.columns[c][i];
+        switch (t.types[c]) {
+          case ColumnType::Int32: store_le(p, int32_t(v)), p += 4; break;
+          case ColumnType::UInt8: store_le(p, uint8_t(v)), p += 1; break;
+          case ColumnType::Float32: store_le(p, float(v)), p += 4; break;
+          case ColumnType::Float64: store_le(p, v), p += 8; break;
+        }
       }
     }
-  }
+  });
   return out;
 }
 

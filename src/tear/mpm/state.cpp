@@ -15,6 +15,15 @@ MpmState<Dim> make_mpm_state(const MpmSettings& settings, std::vector<Particles<
   return state;
 }
 
+template <int Dim>
+MpmState<Dim> make_mpm_state(const MpmSettings& settings, Particles<Dim> group) {
+  std::vector<Particles<Dim>> groups;
+  groups.push_back(std::move(group));
+  return make_mpm_state<Dim>(settings, std::move(groups));
+}
+
+template MpmState<2> make_mpm_state<2>(const MpmSettings&, Particles<2>);
+template MpmState<3> make_mpm_state<3>(const MpmSettings&, Particles<3>);
 template MpmState<2> make_mpm_state<2>(const MpmSettings&, std::vector<Particles<2>>);
 template MpmState<3> make_mpm_state<3>(const MpmSettings&, std::vector<Particles<3>>);
 

@@ -30,5 +30,8 @@ struct MpmState {
 // particles sorted into grid blocks.
 template <int Dim>
 MpmState<Dim> make_mpm_state(const MpmSettings& settings, std::vector<Particles<Dim>> groups);
+// One group (moved in: a braced list of groups would copy them).
+template <int Dim>
+MpmState<Dim> make_mpm_state(const MpmSettings& settings, Particles<Dim> group);
 
 }  // namespace tear

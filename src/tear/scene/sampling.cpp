@@ -122,11 +122,14 @@ Mat<Dim> fiber_frame_at(const FiberSpec& f, const Vec3d& p, uint64_t random_key)
   return D;
 }
 
-template <int Dim>
-Particles<Dim> sample_scene(const Scene& scene) {
-  Particles<Dim> out;
+namespace {
+
+// Calls fn(object, p, key, s) for every sample point of every object inside its shape and the
+// domain, in the order that gives particle ids: objects in order, cells x fastest, the samples
+// of a cell in order. `key` seeds the cell's random numbers (with s, the fiber field's).
+template <int Dim, class Fn>
+void for_each_sample(const Scene& scene, Fn&& fn) {
   const double dx = scene.dx;
-  const double cell_vol = std::pow(dx, Dim);
   IVec<Dim> ncell;
   for (int d = 0; d < Dim; ++d)
     ncell[d] = std::max(1, int(std::ceil((scene.domain_max[d] - scene.domain_min[d]) / dx - 1e-9)));
@@ -138,10 +141,7 @@ Particles<Dim> sample_scene(const Scene& scene) {
 
   for (size_t obj = 0; obj < scene.objects.size(); ++obj) {
     const ObjectSpec& o = scene.objects[obj];
-    const MaterialSpec& mat = scene.materials[o.material];
     const int k = scene_detail::ppc_root(o.ppc, Dim);  // 0: not a perfect power
-    const Real mass = Real(mat.params.rho * cell_vol / o.ppc), vol0 = Real(cell_vol / o.ppc);
-    const Vec3d center = o.shape.world_center();
     const uint64_t obj_key = hash_combine(hash_combine(0x7EA5ull, scene.seed), obj);
 
     Vec3d lo, hi;
@@ -179,18 +179,42 @@ Particles<Dim> sample_scene(const Scene& scene) {
           for (int d = 0; d < Dim; ++d) p[d] += rng.uniform() * dx;
         }
         if (!in_domain(p) || !o.shape.inside(p)) continue;
-        Vec3d r = p - center, w = o.angular_velocity;
-        Vec3d vel = o.velocity + (Dim == 2 ? Vec3d(-w.z() * r.y(), w.z() * r.x(), 0)
-                                           : Vec3d(w.cross(r)));
-        Mat<Dim> frame = fiber_frame_at<Dim>(o.fibers, p, hash_combine(key, uint64_t(s)));
-        out.push_back(p.head<Dim>().template cast<Real>(), vel.head<Dim>().template cast<Real>(),
-                      frame, mass, vol0, uint16_t(o.material));
+        fn(obj, p, key, s);
       }
       int d = 0;
       while (d < Dim && ++c[d] > c1[d]) c[d] = c0[d], ++d;
       if (d == Dim) break;
     }
   }
+}
+
+}  // namespace
+
+template <int Dim>
+Particles<Dim> sample_scene(const Scene& scene) {
+  // Two passes over the same points: count them, then fill the store sized once (appending
+  // particle by particle costs more than the sampling itself on large scenes).
+  size_t n = 0;
+  for_each_sample<Dim>(scene, [&](size_t, const Vec3d&, uint64_t, int) { ++n; });
+  Particles<Dim> out;
+  out.resize(n);
+  const double cell_vol = std::pow(scene.dx, Dim);
+  size_t i = 0;
+  for_each_sample<Dim>(scene, [&](size_t obj, const Vec3d& p, uint64_t key, int s) {
+    const ObjectSpec& o = scene.objects[obj];
+    const MaterialSpec& mat = scene.materials[o.material];
+    const Vec3d r = p - o.shape.world_center(), w = o.angular_velocity;
+    const Vec3d vel =
+        o.velocity + (Dim == 2 ? Vec3d(-w.z() * r.y(), w.z() * r.x(), 0) : Vec3d(w.cross(r)));
+    out.id[i] = uint32_t(i);
+    out.x[i] = p.head<Dim>().template cast<Real>();
+    out.v[i] = vel.head<Dim>().template cast<Real>();
+    out.fiber[i] = fiber_frame_at<Dim>(o.fibers, p, hash_combine(key, uint64_t(s)));
+    out.mass[i] = Real(mat.params.rho * cell_vol / o.ppc);
+    out.vol0[i] = Real(cell_vol / o.ppc);
+    out.material[i] = uint16_t(o.material);
+    ++i;
+  });
   return out;
 }
 
