@@ -71,26 +71,50 @@ void SparseGrid<Dim>::bin(const std::vector<const std::vector<Vec<Dim>>*>& group
           "the simulation became unstable (non-finite particle positions); lower time.cfl or "
           "time.max_dt, or check material stiffness against the time step");
 
-    // Count particles per home slot; home blocks (with particles) in slot order.
+    // Home blocks (with particles) in slot order. Particles are kept sorted by block, so runs
+    // of one slot are long: the table is looked at only where the slot changes.
     b.home_blocks.clear();
-    for (size_t p = 0; p < n; ++p) ++counts_[b.particle_slot[p]];
     std::vector<int> home_slots;
+    int previous = -1;
     for (size_t p = 0; p < n; ++p) {
       const int s = b.particle_slot[p];
+      if (s == previous) continue;
+      previous = s;
       if (table_[s] == -2) continue;
       table_[s] = -2;  // mark seen
       home_slots.push_back(s);
     }
     std::sort(home_slots.begin(), home_slots.end());
+    const size_t homes = home_slots.size();
+    for (size_t h = 0; h < homes; ++h) counts_[home_slots[h]] = uint32_t(h);  // slot -> home
+    // Stable counting sort of the particles by home block, in parallel over chunks of
+    // particles: each chunk counts its particles per block, the counts give each (block,
+    // chunk) its place, and each chunk fills its places in particle order. The order is the
+    // one a serial stable sort gives (ascending index within a block), for any thread count.
+    const size_t chunk = std::max<size_t>(16384, n / 64 + 1);
+    const size_t chunks = (n + chunk - 1) / chunk;
+    std::vector<uint32_t> place(chunks * homes, 0);  // [c][h]: count, then fill cursor
+    parallel_for(chunks, [&](size_t c) {
+      uint32_t* count = &place[c * homes];
+      for (size_t p = c * chunk; p < std::min(n, (c + 1) * chunk); ++p)
+        ++count[counts_[b.particle_slot[p]]];
+    });
     uint32_t offset = 0;
-    for (int s : home_slots) {
-      b.home_blocks.push_back({s, offset, offset + counts_[s]});
-      offset += counts_[s];
-      counts_[s] = b.home_blocks.back().begin;  // becomes the fill cursor
+    for (size_t h = 0; h < homes; ++h) {
+      const uint32_t begin = offset;
+      for (size_t c = 0; c < chunks; ++c) {
+        const uint32_t k = place[c * homes + h];
+        place[c * homes + h] = offset;
+        offset += k;
+      }
+      b.home_blocks.push_back({home_slots[h], begin, offset});
     }
-    // Stable counting sort of particles by home slot.
     b.order.resize(n);
-    for (size_t p = 0; p < n; ++p) b.order[counts_[b.particle_slot[p]]++] = uint32_t(p);
+    parallel_for(chunks, [&](size_t c) {
+      uint32_t* cursor = &place[c * homes];
+      for (size_t p = c * chunk; p < std::min(n, (c + 1) * chunk); ++p)
+        b.order[cursor[counts_[b.particle_slot[p]]]++] = uint32_t(p);
+    });
     for (int s : home_slots) counts_[s] = 0, table_[s] = -1;
 
     for (auto& c : b.colours) c.clear();

@@ -112,7 +112,7 @@ class SparseGrid {
   IVec<Dim> n_slots_ = IVec<Dim>::Zero();
   std::vector<int> table_;        // slot -> block id or -1
   std::vector<int> block_slot_;   // block id -> slot
-  std::vector<uint32_t> counts_;  // per slot particle counts (scratch)
+  std::vector<uint32_t> counts_;  // per slot scratch of bin() (0 between calls)
   std::vector<ParticleBins<Dim>> bins_;  // per group
 };
 

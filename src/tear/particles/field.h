@@ -7,6 +7,7 @@
 #include "tear/exec/parallel.h"
 #include "tear/math/types.h"
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -241,7 +242,11 @@ void FieldRegistry::add(std::vector<T>* field, FieldInfo info, T default_value) 
     const T* in = v.data();
     parallel_for(
         n, [&](size_t k) { std::memcpy(static_cast<void*>(out + k), in + order[k], sizeof(T)); });
-    std::memcpy(static_cast<void*>(v.data()), out, n * sizeof(T));
+    constexpr size_t kCopy = 8192;  // elements per parallel copy back
+    parallel_for((n + kCopy - 1) / kCopy, [&](size_t c) {
+      const size_t a = c * kCopy, b = std::min(n, a + kCopy);
+      std::memcpy(static_cast<void*>(v.data() + a), out + a, (b - a) * sizeof(T));
+    });
   };
   e.erase_ = [](void* f, const std::vector<uint32_t>& which) {
     V& v = *static_cast<V*>(f);
