@@ -1,23 +1,19 @@
 // A plain MLS-MPM loop (Hu et al. 2018, as in the 88-line mls-mpm88, in 3D and double): dense
-// grid, OpenMP, each thread scattering into its own copy of the grid (summed after; atomics on
-// doubles are 3-4 times slower here), neo-Hookean, separating walls, a binary PLY frame every 20
-// steps with the columns tear writes. The reference that `tear run` of bench/scenes/neo_block_3d.json
-// is timed against (docs/architecture.md "Speed of a whole run"); not part of tear.
+// grid, particles as an array of structs, scalar inner loops, OpenMP with each thread scattering
+// into its own copy of the grid (summed after), neo-Hookean, separating walls, a binary PLY frame
+// every 20 steps with the columns tear writes. The reference that `tear run` of
+// bench/scenes/neo_block_3d.json is timed against (docs/cli.md "tear bench"); not part of tear.
 //   plain_mls_mpm [steps=200] [out_dir=/tmp/plain_mls_mpm]
-#include <Eigen/Dense>
 #include <omp.h>
 
-#include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
 #include <vector>
-
-using Vec = Eigen::Vector3d;
-using Mat = Eigen::Matrix3d;
 
 namespace {
 
@@ -29,9 +25,22 @@ constexpr double kMu = kE / (2 * (1 + kNu)), kLambda = kE * kNu / ((1 + kNu) * (
 constexpr int kBound = 3;  // wall nodes
 
 struct Particle {
-  Vec x, v;
-  Mat C, F;
+  double x[3], v[3], C[9], F[9];
 };
+
+// Quadratic B-spline weights of one particle: base node and w[node][axis].
+void weights(const double x[3], int base[3], double fx[3], double w[3][3]) {
+  for (int d = 0; d < 3; ++d) {
+    const double xg = x[d] * kInvDx;
+    base[d] = int(xg - 0.5);
+    fx[d] = xg - base[d];
+    w[0][d] = 0.5 * (1.5 - fx[d]) * (1.5 - fx[d]);
+    w[1][d] = 0.75 - (fx[d] - 1) * (fx[d] - 1);
+    w[2][d] = 0.5 * (fx[d] - 0.5) * (fx[d] - 0.5);
+  }
+}
+
+size_t node(int i, int j, int k) { return (size_t(k) * kNodes + j) * kNodes + i; }
 
 void write_ply(const std::string& path, const std::vector<Particle>& p) {
   const size_t n = p.size();
@@ -48,7 +57,8 @@ void write_ply(const std::string& path, const std::vector<Particle>& p) {
     const int32_t id = int32_t(i);
     std::memcpy(q, &id, 4);
     float f[6];
-    for (int d = 0; d < 3; ++d) f[d] = float(p[i].x[d]), f[3 + d] = float(p[i].v[d]);
+    for (int d = 0; d < 3; ++d)
+      f[d] = float(p[size_t(i)].x[d]), f[3 + d] = float(p[size_t(i)].v[d]);
     std::memcpy(q + 4, f, 24);
     const float zero = 0, one = 1;
     std::memcpy(q + 28, &zero, 4);
@@ -67,7 +77,7 @@ void write_ply(const std::string& path, const std::vector<Particle>& p) {
 int main(int argc, char** argv) {
   const int steps = argc > 1 ? std::atoi(argv[1]) : 200;
   const std::string dir = argc > 2 ? argv[2] : "/tmp/plain_mls_mpm";
-  std::system(("mkdir -p " + dir).c_str());
+  if (std::system(("mkdir -p " + dir).c_str()) != 0) return 1;
   const auto t0 = std::chrono::steady_clock::now();
   // The block of bench/scenes/neo_block_3d.json: 39^3 cells at 8 lattice particles per cell.
   std::vector<Particle> p;
@@ -76,93 +86,107 @@ int main(int argc, char** argv) {
   p.reserve(size_t(per_axis) * per_axis * per_axis);
   for (int k = 0; k < per_axis; ++k)
     for (int j = 0; j < per_axis; ++j)
-      for (int i = 0; i < per_axis; ++i)
-        p.push_back({Vec(lo + (i + 0.5) * h, lo + (j + 0.5) * h, lo + (k + 0.5) * h), Vec::Zero(),
-                     Mat::Zero(), Mat::Identity()});
+      for (int i = 0; i < per_axis; ++i) {
+        Particle q{};
+        q.x[0] = lo + (i + 0.5) * h, q.x[1] = lo + (j + 0.5) * h, q.x[2] = lo + (k + 0.5) * h;
+        q.F[0] = q.F[4] = q.F[8] = 1;
+        p.push_back(q);
+      }
   const double vol = h * h * h, mass = kRho * vol;
   const size_t nodes = size_t(kNodes) * kNodes * kNodes;
-  std::vector<double> grid_m(nodes);
-  std::vector<Vec> grid_v(nodes);
-  int threads = 1;
-#pragma omp parallel
-#pragma omp single
-  threads = omp_get_num_threads();
-  // Per thread: mass and momentum, interleaved.
-  std::vector<std::vector<Eigen::Vector4d>> local{size_t(threads)};
-  for (auto& g : local) g.resize(nodes);
-  auto node = [](int i, int j, int k) { return (size_t(k) * kNodes + j) * kNodes + i; };
+  // Per thread: mass and momentum of every node, interleaved; then the sum: mass, velocity.
+  std::vector<std::vector<double>> local(size_t(omp_get_max_threads()),
+                                         std::vector<double>(nodes * 4));
+  std::vector<double> grid(nodes * 4);
   write_ply(dir + "/00000.ply", p);
   for (int step = 1; step <= steps; ++step) {
 #pragma omp parallel
     {
-    std::vector<Eigen::Vector4d>& g = local[size_t(omp_get_thread_num())];
-    std::fill(g.begin(), g.end(), Eigen::Vector4d::Zero());
+      double* g = local[size_t(omp_get_thread_num())].data();
+      std::memset(g, 0, nodes * 4 * sizeof(double));
 #pragma omp for
-    for (long n = 0; n < long(p.size()); ++n) {
-      const Particle& q = p[size_t(n)];
-      const Vec xg = q.x * kInvDx;
-      const Eigen::Vector3i base = (xg.array() - 0.5).floor().cast<int>();
-      const Vec fx = xg - base.cast<double>();
-      std::array<Vec, 3> w = {Vec(0.5 * (1.5 - fx.array()).square()),
-                              Vec(0.75 - (fx.array() - 1).square()),
-                              Vec(0.5 * (fx.array() - 0.5).square())};
-      // Neo-Hookean: P F^T = mu (F F^T - I) + lambda log(J) I.
-      const double J = q.F.determinant();
-      const Mat PFt = kMu * (q.F * q.F.transpose() - Mat::Identity()) +
-                      kLambda * std::log(J) * Mat::Identity();
-      const Mat affine = -kDt * vol * 4 * kInvDx * kInvDx * PFt + mass * q.C;
-      const Vec mv0 = mass * q.v;
-      for (int k = 0; k < 3; ++k)
-        for (int j = 0; j < 3; ++j)
-          for (int i = 0; i < 3; ++i) {
-            const Vec dpos = (Vec(i, j, k) - fx) * kDx;
-            const double wt = w[i][0] * w[j][1] * w[k][2];
-            const Vec mv = wt * (mv0 + affine * dpos);
-            g[node(base[0] + i, base[1] + j, base[2] + k)] +=
-                Eigen::Vector4d(wt * mass, mv[0], mv[1], mv[2]);
+      for (long n = 0; n < long(p.size()); ++n) {
+        const Particle& q = p[size_t(n)];
+        int base[3];
+        double fx[3], w[3][3];
+        weights(q.x, base, fx, w);
+        // Neo-Hookean: P F^T = mu (F F^T - I) + lambda log(J) I.
+        const double* F = q.F;
+        const double J = F[0] * (F[4] * F[8] - F[5] * F[7]) - F[1] * (F[3] * F[8] - F[5] * F[6]) +
+                         F[2] * (F[3] * F[7] - F[4] * F[6]);
+        const double lj = kLambda * std::log(J), s = -kDt * vol * 4 * kInvDx * kInvDx;
+        double A[9];
+        for (int a = 0; a < 3; ++a)
+          for (int b = 0; b < 3; ++b) {
+            double ff = 0;
+            for (int c = 0; c < 3; ++c) ff += F[a * 3 + c] * F[b * 3 + c];
+            A[a * 3 + b] = s * (kMu * (ff - (a == b)) + (a == b) * lj) + mass * q.C[a * 3 + b];
           }
-    }
-    }
-#pragma omp parallel for
-    for (long id = 0; id < long(nodes); ++id) {
-      Eigen::Vector4d sum = Eigen::Vector4d::Zero();
-      for (const auto& g : local) sum += g[size_t(id)];
-      grid_m[size_t(id)] = sum[0];
-      grid_v[size_t(id)] = sum.tail<3>();
-      if (grid_m[size_t(id)] <= 0) continue;
-      Vec& v = grid_v[size_t(id)];
-      v /= grid_m[size_t(id)];
-      v[1] -= kDt * 9.8;
-      const int c[3] = {int(id % kNodes), int(id / kNodes % kNodes), int(id / kNodes / kNodes)};
-      for (int d = 0; d < 3; ++d) {
-        if (c[d] < kBound && v[d] < 0) v[d] = 0;
-        if (c[d] > kN - kBound && v[d] > 0) v[d] = 0;
+        const double mv[3] = {mass * q.v[0], mass * q.v[1], mass * q.v[2]};
+        for (int k = 0; k < 3; ++k)
+          for (int j = 0; j < 3; ++j) {
+            const double wjk = w[j][1] * w[k][2], ry = (j - fx[1]) * kDx, rz = (k - fx[2]) * kDx;
+            double* row = g + 4 * node(base[0], base[1] + j, base[2] + k);
+            for (int i = 0; i < 3; ++i) {
+              const double wt = w[i][0] * wjk, rx = (i - fx[0]) * kDx;
+              double* nd = row + 4 * i;
+              nd[0] += wt * mass;
+              for (int a = 0; a < 3; ++a)
+                nd[1 + a] += wt * (mv[a] + A[a * 3] * rx + A[a * 3 + 1] * ry + A[a * 3 + 2] * rz);
+            }
+          }
       }
-    }
-#pragma omp parallel for
-    for (long n = 0; n < long(p.size()); ++n) {
-      Particle& q = p[size_t(n)];
-      const Vec xg = q.x * kInvDx;
-      const Eigen::Vector3i base = (xg.array() - 0.5).floor().cast<int>();
-      const Vec fx = xg - base.cast<double>();
-      std::array<Vec, 3> w = {Vec(0.5 * (1.5 - fx.array()).square()),
-                              Vec(0.75 - (fx.array() - 1).square()),
-                              Vec(0.5 * (fx.array() - 0.5).square())};
-      Vec v = Vec::Zero();
-      Mat B = Mat::Zero();
-      for (int k = 0; k < 3; ++k)
-        for (int j = 0; j < 3; ++j)
-          for (int i = 0; i < 3; ++i) {
-            const Vec dpos = (Vec(i, j, k) - fx);
-            const double wt = w[i][0] * w[j][1] * w[k][2];
-            const Vec gv = grid_v[node(base[0] + i, base[1] + j, base[2] + k)];
-            v += wt * gv;
-            B += 4 * kInvDx * wt * gv * dpos.transpose();
+#pragma omp for
+      for (long id = 0; id < long(nodes); ++id) {
+        double s4[4] = {0, 0, 0, 0};
+        for (const auto& l : local)
+          for (int c = 0; c < 4; ++c) s4[c] += l[size_t(id) * 4 + c];
+        double* gn = &grid[size_t(id) * 4];
+        gn[0] = s4[0];
+        if (s4[0] <= 0) {
+          gn[1] = gn[2] = gn[3] = 0;
+          continue;
+        }
+        for (int c = 0; c < 3; ++c) gn[1 + c] = s4[1 + c] / s4[0];
+        gn[2] -= kDt * 9.8;
+        const int cc[3] = {int(id % kNodes), int(id / kNodes % kNodes), int(id / kNodes / kNodes)};
+        for (int d = 0; d < 3; ++d) {
+          if (cc[d] < kBound && gn[1 + d] < 0) gn[1 + d] = 0;
+          if (cc[d] > kN - kBound && gn[1 + d] > 0) gn[1 + d] = 0;
+        }
+      }
+#pragma omp for
+      for (long n = 0; n < long(p.size()); ++n) {
+        Particle& q = p[size_t(n)];
+        int base[3];
+        double fx[3], w[3][3];
+        weights(q.x, base, fx, w);
+        double v[3] = {0, 0, 0}, B[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+        for (int k = 0; k < 3; ++k)
+          for (int j = 0; j < 3; ++j) {
+            const double wjk = w[j][1] * w[k][2], ry = j - fx[1], rz = k - fx[2];
+            const double* row = grid.data() + 4 * node(base[0], base[1] + j, base[2] + k);
+            for (int i = 0; i < 3; ++i) {
+              const double wt = w[i][0] * wjk, rx = i - fx[0];
+              const double* nd = row + 4 * i;
+              for (int a = 0; a < 3; ++a) {
+                const double wv = wt * nd[1 + a];
+                v[a] += wv;
+                B[a * 3] += wv * rx, B[a * 3 + 1] += wv * ry, B[a * 3 + 2] += wv * rz;
+              }
+            }
           }
-      q.v = v;
-      q.C = B;
-      q.x += kDt * v;
-      q.F = (Mat::Identity() + kDt * B) * q.F;
+        double Fn[9];
+        for (int a = 0; a < 9; ++a) q.C[a] = 4 * kInvDx * B[a];
+        for (int a = 0; a < 3; ++a)
+          for (int b = 0; b < 3; ++b) {
+            double f = q.F[a * 3 + b];
+            for (int c = 0; c < 3; ++c) f += kDt * q.C[a * 3 + c] * q.F[c * 3 + b];
+            Fn[a * 3 + b] = f;
+          }
+        std::memcpy(q.F, Fn, sizeof(Fn));
+        for (int a = 0; a < 3; ++a) q.v[a] = v[a], q.x[a] += kDt * v[a];
+      }
     }
     if (step % 20 == 0) {
       char name[32];

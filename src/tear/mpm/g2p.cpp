@@ -6,11 +6,14 @@
 
 namespace tear {
 
-template <int Dim>
-void g2p(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
+namespace {
+
+// G2P with the transfer's choice made at compile time (no test per node).
+template <int Dim, bool kFlip>
+void gather(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
+  constexpr bool flip = kFlip;
   const SparseGrid<Dim>& grid = state->grid;
   const Real inv_d = BSpline1D<kTransferOrder>::kInvD / Real(settings.dx * settings.dx);
-  const bool flip = settings.transfer == Transfer::Flip;
   const Real ratio =
       Real(settings.flip_relaxation_time > 0 ? std::exp(-double(dt) / settings.flip_relaxation_time)
                                              : settings.flip_ratio);
@@ -28,7 +31,7 @@ void g2p(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
         const Vec<Dim> wv = w * grid.velocity[node];
         v += wv;
         for (int c = 0; c < Dim; ++c) B.col(c) += wv * rel[c];  // B += wv (x_i - x_p)^T
-        if (flip) v_old += w * grid.velocity_old[node];
+        if constexpr (flip) v_old += w * grid.velocity_old[node];
       });
       const Mat<Dim> C = B * inv_d;  // velocity gradient estimate (APIC B D^-1)
       p.C[i] = C;
@@ -37,6 +40,16 @@ void g2p(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
       p.x[i] = (p.x[i] + dt * v).cwiseMax(lo).cwiseMin(hi);
     });
   }
+}
+
+}  // namespace
+
+template <int Dim>
+void g2p(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
+  if (settings.transfer == Transfer::Flip)
+    gather<Dim, true>(settings, state, dt);
+  else
+    gather<Dim, false>(settings, state, dt);
 }
 
 template void g2p<2>(const MpmSettings&, MpmState<2>*, Real);

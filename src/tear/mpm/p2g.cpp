@@ -20,12 +20,13 @@ Mat<Dim> p2g_stress(const MpmSettings& settings, const Particles<Dim>& p, size_t
   return first_piola<Dim>(m, p.F[i], p.fiber[i], degradation(p.damage[i], Real(dp.residual)));
 }
 
-template <int Dim>
-void p2g(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
+namespace {
+
+// P2G with the transfer's choice made at compile time (no test per node).
+template <int Dim, bool kApic, bool kFlip>
+void scatter(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
   SparseGrid<Dim>& grid = state->grid;
   const Real inv_d = BSpline1D<kTransferOrder>::kInvD / Real(settings.dx * settings.dx);
-  const bool apic = settings.transfer == Transfer::Apic;
-  const bool flip = settings.transfer == Transfer::Flip;
   for_each_colour(
       SparseGrid<Dim>::kColours, state->groups.size(),
       [&](size_t g, int c) -> const std::vector<int>& { return grid.bins(g).colours[c]; },
@@ -39,20 +40,34 @@ void p2g(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
           // MLS-MPM: the stress enters as an affine momentum term (Hu et al. 2018, Eq. 29).
           Mat<Dim> affine = (-dt * p.vol0[i] * inv_d) * (P * p.F[i].transpose());
           const Real m = p.mass[i];
-          if (apic) affine += m * p.C[i];
+          if constexpr (kApic) affine += m * p.C[i];
           const Vec<Dim> mv = m * p.v[i];
           Stencil<Dim, kTransferOrder>(grid, p.x[i])
               .visit([&](int node, Real w, const Vec<Dim>& rel) {
                 grid.mass[node] += w * m;
-                // mv + affine (x_i - x_p), column by column: Eigen's product temporaries here
-                // cost store-forwarding stalls.
-                Vec<Dim> dv = mv;
-                for (int c = 0; c < Dim; ++c) dv += affine.col(c) * rel[c];
-                grid.velocity[node] += w * dv;
-                if (flip) grid.velocity_old[node] += w * mv;  // force-free momentum
+                // mv + affine (x_i - x_p), row by row in scalars: Eigen's temporaries here cost
+                // store-forwarding stalls.
+                Real* momentum = grid.velocity[node].data();
+                for (int a = 0; a < Dim; ++a) {
+                  Real dv = mv[a];
+                  for (int c = 0; c < Dim; ++c) dv += affine(a, c) * rel[c];
+                  momentum[a] += w * dv;
+                }
+                if constexpr (kFlip) grid.velocity_old[node] += w * mv;  // force-free momentum
               });
         }
       });
+}
+
+}  // namespace
+
+template <int Dim>
+void p2g(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
+  switch (settings.transfer) {
+    case Transfer::Apic: return scatter<Dim, true, false>(settings, state, dt);
+    case Transfer::Pic: return scatter<Dim, false, false>(settings, state, dt);
+    case Transfer::Flip: return scatter<Dim, false, true>(settings, state, dt);
+  }
 }
 
 template Mat<2> p2g_stress<2>(const MpmSettings&, const Particles<2>&, size_t);

@@ -226,7 +226,14 @@ void FieldRegistry::add(std::vector<T>* field, FieldInfo info, T default_value) 
     V& v = *static_cast<V*>(f);
     const size_t old = v.size();
     v.resize(n);
-    for (size_t i = old; i < n; ++i) std::memcpy(static_cast<void*>(&v[i]), def, sizeof(T));
+    auto fill = [&](size_t a, size_t b) {
+      for (size_t i = a; i < b; ++i) std::memcpy(static_cast<void*>(&v[i]), def, sizeof(T));
+    };
+    constexpr size_t kFill = 8192;  // elements per parallel chunk (first touch of large stores)
+    if (n <= old + kFill) return fill(old, std::max(n, old));
+    parallel_for((n - old + kFill - 1) / kFill, [&](size_t c) {
+      fill(old + c * kFill, std::min(n, old + (c + 1) * kFill));
+    });
   };
   e.reserve_ = [](void* f, size_t n) { static_cast<V*>(f)->reserve(n); };
   e.capacity_ = [](const void* f) { return static_cast<const V*>(f)->capacity(); };

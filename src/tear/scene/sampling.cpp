@@ -3,6 +3,8 @@
 // depend on iteration order, thread count or the standard library.
 #include "tear/scene/sampling.h"
 
+#include "tear/exec/parallel.h"
+
 #include "tear/geometry/shape.h"
 #include "tear/scene/scene_parts.h"
 
@@ -124,28 +126,17 @@ Mat<Dim> fiber_frame_at(const FiberSpec& f, const Vec3d& p, uint64_t random_key)
 
 namespace {
 
-// Calls fn(object, p, key, s) for every sample point of every object inside its shape and the
-// domain, in the order that gives particle ids: objects in order, cells x fastest, the samples
-// of a cell in order. `key` seeds the cell's random numbers (with s, the fiber field's).
+// The sampling cells of every object: fn(object, cell) for each cell of the object's bounds
+// inside the domain, objects in order, cells x fastest (the order that gives particle ids).
 template <int Dim, class Fn>
-void for_each_sample(const Scene& scene, Fn&& fn) {
+void for_each_cell(const Scene& scene, Fn&& fn) {
   const double dx = scene.dx;
   IVec<Dim> ncell;
   for (int d = 0; d < Dim; ++d)
     ncell[d] = std::max(1, int(std::ceil((scene.domain_max[d] - scene.domain_min[d]) / dx - 1e-9)));
-  auto in_domain = [&](const Vec3d& p) {
-    for (int d = 0; d < Dim; ++d)
-      if (p[d] < scene.domain_min[d] || p[d] > scene.domain_max[d]) return false;
-    return true;
-  };
-
   for (size_t obj = 0; obj < scene.objects.size(); ++obj) {
-    const ObjectSpec& o = scene.objects[obj];
-    const int k = scene_detail::ppc_root(o.ppc, Dim);  // 0: not a perfect power
-    const uint64_t obj_key = hash_combine(hash_combine(0x7EA5ull, scene.seed), obj);
-
     Vec3d lo, hi;
-    o.shape.bounds(&lo, &hi);
+    scene.objects[obj].shape.bounds(&lo, &hi);
     IVec<Dim> c0, c1;  // inclusive cell range overlapping the bounds and the domain
     bool empty = false;
     for (int d = 0; d < Dim; ++d) {
@@ -157,30 +148,9 @@ void for_each_sample(const Scene& scene, Fn&& fn) {
       empty = empty || c0[d] > c1[d];
     }
     if (empty) continue;
-
     IVec<Dim> c = c0;
     for (;;) {
-      uint64_t key = obj_key;
-      for (int d = 0; d < Dim; ++d) key = hash_combine(key, uint64_t(uint32_t(c[d])));
-      Rng rng(key);
-      Vec3d origin = Vec3d::Zero();
-      for (int d = 0; d < Dim; ++d) origin[d] = scene.domain_min[d] + c[d] * dx;
-      for (int s = 0; s < o.ppc; ++s) {
-        Vec3d p = origin;
-        if (k > 0) {  // stratified: one jittered (or centred) point per sub-cell
-          int rem = s;
-          for (int d = 0; d < Dim; ++d) {
-            int sub = rem % k;
-            rem /= k;
-            double u = o.grid_sampling ? 0.5 : rng.uniform();
-            p[d] += (sub + u) * dx / k;
-          }
-        } else {
-          for (int d = 0; d < Dim; ++d) p[d] += rng.uniform() * dx;
-        }
-        if (!in_domain(p) || !o.shape.inside(p)) continue;
-        fn(obj, p, key, s);
-      }
+      fn(obj, c);
       int d = 0;
       while (d < Dim && ++c[d] > c1[d]) c[d] = c0[d], ++d;
       if (d == Dim) break;
@@ -188,32 +158,81 @@ void for_each_sample(const Scene& scene, Fn&& fn) {
   }
 }
 
+// fn(p, key, s) for the sample points of one cell of an object that lie inside its shape and
+// the domain, in order. `key` seeds the cell's random numbers (with s, the fiber field's).
+template <int Dim, class Fn>
+void cell_samples(const Scene& scene, size_t obj, const IVec<Dim>& c, Fn&& fn) {
+  const double dx = scene.dx;
+  const ObjectSpec& o = scene.objects[obj];
+  const int k = scene_detail::ppc_root(o.ppc, Dim);  // 0: not a perfect power
+  uint64_t key = hash_combine(hash_combine(0x7EA5ull, scene.seed), obj);
+  for (int d = 0; d < Dim; ++d) key = hash_combine(key, uint64_t(uint32_t(c[d])));
+  Rng rng(key);
+  Vec3d origin = Vec3d::Zero();
+  for (int d = 0; d < Dim; ++d) origin[d] = scene.domain_min[d] + c[d] * dx;
+  for (int s = 0; s < o.ppc; ++s) {
+    Vec3d p = origin;
+    if (k > 0) {  // stratified: one jittered (or centred) point per sub-cell
+      int rem = s;
+      for (int d = 0; d < Dim; ++d) {
+        int sub = rem % k;
+        rem /= k;
+        double u = o.grid_sampling ? 0.5 : rng.uniform();
+        p[d] += (sub + u) * dx / k;
+      }
+    } else {
+      for (int d = 0; d < Dim; ++d) p[d] += rng.uniform() * dx;
+    }
+    bool in_domain = true;
+    for (int d = 0; d < Dim; ++d)
+      in_domain = in_domain && p[d] >= scene.domain_min[d] && p[d] <= scene.domain_max[d];
+    if (!in_domain || !o.shape.inside(p)) continue;
+    fn(p, key, s);
+  }
+}
+
 }  // namespace
 
 template <int Dim>
 Particles<Dim> sample_scene(const Scene& scene) {
-  // Two passes over the same points: count them, then fill the store sized once (appending
-  // particle by particle costs more than the sampling itself on large scenes).
+  // Two passes over the same points: count each cell's, then fill the store, sized once, cell
+  // by cell in parallel at the cells' offsets (each cell's random numbers come from its own
+  // key, so the particles and their ids do not depend on the thread count).
+  struct Cell {
+    size_t object;
+    IVec<Dim> c;
+    size_t first;  // index of the cell's first particle
+  };
+  std::vector<Cell> cells;
   size_t n = 0;
-  for_each_sample<Dim>(scene, [&](size_t, const Vec3d&, uint64_t, int) { ++n; });
+  for_each_cell<Dim>(scene, [&](size_t obj, const IVec<Dim>& c) {
+    size_t count = 0;
+    cell_samples<Dim>(scene, obj, c, [&](const Vec3d&, uint64_t, int) { ++count; });
+    if (count) cells.push_back({obj, c, n});
+    n += count;
+  });
   Particles<Dim> out;
   out.resize(n);
   const double cell_vol = std::pow(scene.dx, Dim);
-  size_t i = 0;
-  for_each_sample<Dim>(scene, [&](size_t obj, const Vec3d& p, uint64_t key, int s) {
-    const ObjectSpec& o = scene.objects[obj];
+  parallel_for(cells.size(), [&](size_t k) {
+    const Cell& cell = cells[k];
+    const ObjectSpec& o = scene.objects[cell.object];
     const MaterialSpec& mat = scene.materials[o.material];
-    const Vec3d r = p - o.shape.world_center(), w = o.angular_velocity;
-    const Vec3d vel =
-        o.velocity + (Dim == 2 ? Vec3d(-w.z() * r.y(), w.z() * r.x(), 0) : Vec3d(w.cross(r)));
-    out.id[i] = uint32_t(i);
-    out.x[i] = p.head<Dim>().template cast<Real>();
-    out.v[i] = vel.head<Dim>().template cast<Real>();
-    out.fiber[i] = fiber_frame_at<Dim>(o.fibers, p, hash_combine(key, uint64_t(s)));
-    out.mass[i] = Real(mat.params.rho * cell_vol / o.ppc);
-    out.vol0[i] = Real(cell_vol / o.ppc);
-    out.material[i] = uint16_t(o.material);
-    ++i;
+    const Vec3d center = o.shape.world_center(), w = o.angular_velocity;
+    size_t i = cell.first;
+    cell_samples<Dim>(scene, cell.object, cell.c, [&](const Vec3d& p, uint64_t key, int s) {
+      const Vec3d r = p - center;
+      const Vec3d vel =
+          o.velocity + (Dim == 2 ? Vec3d(-w.z() * r.y(), w.z() * r.x(), 0) : Vec3d(w.cross(r)));
+      out.id[i] = uint32_t(i);
+      out.x[i] = p.head<Dim>().template cast<Real>();
+      out.v[i] = vel.head<Dim>().template cast<Real>();
+      out.fiber[i] = fiber_frame_at<Dim>(o.fibers, p, hash_combine(key, uint64_t(s)));
+      out.mass[i] = Real(mat.params.rho * cell_vol / o.ppc);
+      out.vol0[i] = Real(cell_vol / o.ppc);
+      out.material[i] = uint16_t(o.material);
+      ++i;
+    });
   });
   return out;
 }
