@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 
 namespace tear {
 namespace {
@@ -140,9 +141,28 @@ std::vector<Real> run_state(int threads) {
   return out;
 }
 
-TEST(Determinism, SameBitsForOneAndTwoThreads2D) { EXPECT_EQ(run_state<2>(1), run_state<2>(2)); }
-TEST(Determinism, SameBitsForOneAndTwoThreads3D) { EXPECT_EQ(run_state<3>(1), run_state<3>(2)); }
-TEST(Determinism, SameBitsRunToRun) { EXPECT_EQ(run_state<3>(2), run_state<3>(2)); }
+// Bit equality (NaN compares equal to a NaN with the same bits), naming the first difference.
+::testing::AssertionResult same_bits(const std::vector<Real>& a, const std::vector<Real>& b) {
+  if (a.size() != b.size())
+    return ::testing::AssertionFailure() << "sizes " << a.size() << " and " << b.size();
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (std::memcmp(&a[i], &b[i], sizeof(Real)) != 0) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "entry %zu of %zu: %.17g vs %.17g", i,
+                    a.size(), double(a[i]), double(b[i]));
+      return ::testing::AssertionFailure() << buf;
+    }
+  }
+  return ::testing::AssertionSuccess();
+}
+
+TEST(Determinism, SameBitsForOneAndTwoThreads2D) {
+  EXPECT_TRUE(same_bits(run_state<2>(1), run_state<2>(2)));
+}
+TEST(Determinism, SameBitsForOneAndTwoThreads3D) {
+  EXPECT_TRUE(same_bits(run_state<3>(1), run_state<3>(2)));
+}
+TEST(Determinism, SameBitsRunToRun) { EXPECT_TRUE(same_bits(run_state<3>(2), run_state<3>(2))); }
 
 }  // namespace
 }  // namespace tear
