@@ -13,6 +13,12 @@ struct DamageSettings {
   double zeta = 1;           // slope of the driving force
   double tolerance = 1e-6;   // implicit: stop when no particle's damage changes by more
   int max_iterations = 200;  // implicit: give up (and report it) after this many sweeps
+  // Crack fields (damage-gradient partitioning after Homel & Herbold 2017): a grid node
+  // within reach of a particle whose damage is at least split_damage holds two velocity
+  // fields, one per side of the crack, told apart by the particles' damage gradients; the
+  // sides meet only in frictionless contact. Off: one velocity field per node (the paper).
+  bool split_fields = false;
+  double split_damage = 0.2;
 };
 
 // One material's damage parameters; enabled = false: the material never cracks.

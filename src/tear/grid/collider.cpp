@@ -65,45 +65,48 @@ void apply_colliders(SparseGrid<Dim>& grid, ContactType walls,
   }
   const IVec<Dim> n_nodes = grid.num_nodes();
   const int blocks = grid.num_blocks();
+  auto contact = [&](int node, Vec<Dim>& v) {
+    if (walls != ContactType::None) {
+      const IVec<Dim> g = grid.node_coord(node);
+      for (int d = 0; d < Dim; ++d) {
+        Vec<Dim> n = Vec<Dim>::Zero();
+        if (g[d] < kWallNodes)
+          n[d] = 1;
+        else if (g[d] > n_nodes[d] - 1 - kWallNodes)
+          n[d] = -1;
+        else
+          continue;
+        v = contact_velocity<Dim>(v, Vec<Dim>::Zero(), n, walls, 0);
+      }
+    }
+    if (states.empty()) return;
+    const Vec<Dim> xi = grid.node_position(node);
+    Vec3d p = Vec3d::Zero();
+    p.template head<Dim>() = xi.template cast<double>();
+    for (size_t c = 0; c < colliders.size(); ++c) {
+      const ColliderState& s = states[c];
+      if (!s.active) continue;
+      if ((p.array() < boxes[c].first.array()).any() || (p.array() > boxes[c].second.array()).any())
+        continue;
+      const Collider& col = colliders[c];
+      const Vec3d centre = s.center0 + s.displacement;
+      const Vec3d q = s.center0 + s.rotation.transpose() * (p - centre);
+      if (col.shape.sdf(q) > 0) continue;
+      const Vec3d n3 = s.rotation * col.shape.normal_at(q);
+      const Vec3d vw3 = col.velocity + col.angular_velocity.cross(p - centre);
+      v = contact_velocity<Dim>(v, vw3.template head<Dim>().template cast<Real>(),
+                                n3.template head<Dim>().template cast<Real>().normalized(),
+                                col.type, Real(col.friction));
+    }
+  };
+  // Both velocity fields of a node where crack fields are split (SparseGrid::mass2).
+  const bool split = !grid.mass2.empty();
   parallel_for(size_t(blocks), [&](size_t blk_index) {
     const int blk = int(blk_index);
     for (int l = 0; l < SparseGrid<Dim>::kNodesPerBlock; ++l) {
       const int node = blk * SparseGrid<Dim>::kNodesPerBlock + l;
-      if (grid.mass[node] <= 0) continue;
-      Vec<Dim>& v = grid.velocity[node];
-      if (walls != ContactType::None) {
-        const IVec<Dim> g = grid.node_coord(node);
-        for (int d = 0; d < Dim; ++d) {
-          Vec<Dim> n = Vec<Dim>::Zero();
-          if (g[d] < kWallNodes)
-            n[d] = 1;
-          else if (g[d] > n_nodes[d] - 1 - kWallNodes)
-            n[d] = -1;
-          else
-            continue;
-          v = contact_velocity<Dim>(v, Vec<Dim>::Zero(), n, walls, 0);
-        }
-      }
-      if (states.empty()) continue;
-      const Vec<Dim> xi = grid.node_position(node);
-      Vec3d p = Vec3d::Zero();
-      p.template head<Dim>() = xi.template cast<double>();
-      for (size_t c = 0; c < colliders.size(); ++c) {
-        const ColliderState& s = states[c];
-        if (!s.active) continue;
-        if ((p.array() < boxes[c].first.array()).any() ||
-            (p.array() > boxes[c].second.array()).any())
-          continue;
-        const Collider& col = colliders[c];
-        const Vec3d centre = s.center0 + s.displacement;
-        const Vec3d q = s.center0 + s.rotation.transpose() * (p - centre);
-        if (col.shape.sdf(q) > 0) continue;
-        const Vec3d n3 = s.rotation * col.shape.normal_at(q);
-        const Vec3d vw3 = col.velocity + col.angular_velocity.cross(p - centre);
-        v = contact_velocity<Dim>(v, vw3.template head<Dim>().template cast<Real>(),
-                                  n3.template head<Dim>().template cast<Real>().normalized(),
-                                  col.type, Real(col.friction));
-      }
+      if (grid.mass[node] > 0) contact(node, grid.velocity[node]);
+      if (split && grid.mass2[node] > 0) contact(node, grid.velocity2[node]);
     }
   });
 }

@@ -43,7 +43,8 @@ struct ColliderState {
 
 ColliderState collider_state(const Collider& c, double time);
 
-// Apply domain walls and every active collider to the grid velocities at `time`.
+// Apply domain walls and every active collider to the grid velocities at `time` (both fields
+// of a node where the crack fields are split).
 template <int Dim>
 void apply_colliders(SparseGrid<Dim>& grid, ContactType walls,
                      const std::vector<Collider>& colliders, double time);

@@ -168,6 +168,21 @@ void SparseGrid<Dim>::zero_scalar_fields() {
 }
 
 template <int Dim>
+void SparseGrid<Dim>::zero_split_fields() {
+  const size_t nodes = num_active_nodes();
+  if (mass2.size() < nodes)
+    mass2.resize(nodes), velocity2.resize(nodes), velocity_old2.resize(nodes),
+        crack_normal.resize(nodes);
+  parallel_for(block_slot_.size(), [&](size_t blk) {
+    const size_t a = blk * kNodesPerBlock, b = a + kNodesPerBlock;
+    std::fill(mass2.begin() + a, mass2.begin() + b, Real(0));
+    std::fill(velocity2.begin() + a, velocity2.begin() + b, Vec<Dim>::Zero());
+    std::fill(velocity_old2.begin() + a, velocity_old2.begin() + b, Vec<Dim>::Zero());
+    std::fill(crack_normal.begin() + a, crack_normal.begin() + b, Vec<Dim>::Zero());
+  });
+}
+
+template <int Dim>
 std::vector<std::vector<char>> SparseGrid<Dim>::near_hot_blocks(
     const std::vector<std::vector<char>>& hot) const {
   // Mark the 3^Dim slot neighbourhood of every hot home block (slot coordinates of home
@@ -228,7 +243,8 @@ size_t SparseGrid<Dim>::memory_bytes() const {
     bins += b.order.capacity() * sizeof(uint32_t) + b.particle_slot.capacity() * sizeof(int);
   return table_.size() * (sizeof(int) + sizeof(uint32_t)) +
          mass.capacity() * (sizeof(Real) + 2 * sizeof(Vec<Dim>)) +
-         scalar.capacity() * 2 * sizeof(Real) + bins;
+         scalar.capacity() * 2 * sizeof(Real) +
+         mass2.capacity() * (sizeof(Real) + 3 * sizeof(Vec<Dim>)) + bins;
 }
 
 template class SparseGrid<2>;

@@ -90,6 +90,9 @@ class SparseGrid {
   // Size and zero the scalar node fields of the active blocks (bin() leaves them alone:
   // only the damage solvers use them).
   void zero_scalar_fields();
+  // Size and zero the second velocity field and the crack normals of the active blocks
+  // (mpm's crack fields; bin() leaves them alone). Empty vectors: no node is split.
+  void zero_split_fields();
 
   // Node fields (indexed by storage index).
   std::vector<Real> mass;
@@ -97,6 +100,12 @@ class SparseGrid {
   std::vector<Vec<Dim>> velocity_old;  // velocity before forces (FLIP)
   std::vector<Real> scalar;            // a transferred scalar (damage d_i)
   std::vector<Real> scalar_weight;     // its weights (sum_p w_ip)
+  // Crack fields (damage-gradient partitioning): a node where a crack passes holds a second
+  // velocity field for the particles whose damage gradient opposes its crack normal (a zero
+  // normal: the node is not split).
+  std::vector<Real> mass2;
+  std::vector<Vec<Dim>> velocity2, velocity_old2;
+  std::vector<Vec<Dim>> crack_normal;
 
  private:
   int slot_of(const IVec<Dim>& b) const {

@@ -13,8 +13,15 @@ namespace {
 template <int Dim>
 std::vector<NodeFieldView> momentum_fields(SparseGrid<Dim>* g) {
   const size_t n = g->num_active_nodes();
-  return {node_field(g->mass.data(), n, 1), node_field(g->velocity.data()->data(), n, Dim),
-          node_field(g->velocity_old.data()->data(), n, Dim)};
+  std::vector<NodeFieldView> fields = {node_field(g->mass.data(), n, 1),
+                                       node_field(g->velocity.data()->data(), n, Dim),
+                                       node_field(g->velocity_old.data()->data(), n, Dim)};
+  if (!g->mass2.empty()) {  // crack fields
+    fields.push_back(node_field(g->mass2.data(), n, 1));
+    fields.push_back(node_field(g->velocity2.data()->data(), n, Dim));
+    fields.push_back(node_field(g->velocity_old2.data()->data(), n, Dim));
+  }
+  return fields;
 }
 
 template <int Dim>
@@ -43,6 +50,10 @@ void explicit_step(const MpmSettings& settings, MpmState<Dim>* state, double dt,
     PhaseTimer timer(&t.damage);
     update_damage(&state->groups, &state->grid, settings.damage, settings.material_damage, dt,
                   &record->damage, domain);
+  }
+  if (settings.damage.split_fields) {
+    PhaseTimer timer(&t.damage);
+    partition_crack_fields(settings, state);
   }
   {
     PhaseTimer timer(&t.p2g);

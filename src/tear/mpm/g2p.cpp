@@ -8,8 +8,8 @@ namespace tear {
 
 namespace {
 
-// G2P with the transfer's choice made at compile time (no test per node).
-template <int Dim, bool kFlip>
+// G2P with the transfer's choice and crack fields made at compile time (no test per node).
+template <int Dim, bool kFlip, bool kSplit>
 void gather(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
   constexpr bool flip = kFlip;
   const SparseGrid<Dim>& grid = state->grid;
@@ -28,10 +28,16 @@ void gather(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
       Vec<Dim> v = Vec<Dim>::Zero(), v_old = Vec<Dim>::Zero();
       Mat<Dim> B = Mat<Dim>::Zero();
       Stencil<Dim, kTransferOrder>(grid, p.x[i]).visit([&](int node, Real w, const Vec<Dim>& rel) {
-        const Vec<Dim> wv = w * grid.velocity[node];
+        const Vec<Dim>* vel = &grid.velocity[node];
+        const Vec<Dim>* vel_old = &grid.velocity_old[node];
+        if constexpr (kSplit) {
+          if (second_field(grid, node, p.damage_gradient[i]))
+            vel = &grid.velocity2[node], vel_old = &grid.velocity_old2[node];
+        }
+        const Vec<Dim> wv = w * *vel;
         v += wv;
         for (int c = 0; c < Dim; ++c) B.col(c) += wv * rel[c];  // B += wv (x_i - x_p)^T
-        if constexpr (flip) v_old += w * grid.velocity_old[node];
+        if constexpr (flip) v_old += w * *vel_old;
       });
       const Mat<Dim> C = B * inv_d;  // velocity gradient estimate (APIC B D^-1)
       p.C[i] = C;
@@ -46,10 +52,11 @@ void gather(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
 
 template <int Dim>
 void g2p(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
-  if (settings.transfer == Transfer::Flip)
-    gather<Dim, true>(settings, state, dt);
-  else
-    gather<Dim, false>(settings, state, dt);
+  const bool flip = settings.transfer == Transfer::Flip, split = settings.damage.split_fields;
+  if (flip && split) return gather<Dim, true, true>(settings, state, dt);
+  if (flip) return gather<Dim, true, false>(settings, state, dt);
+  if (split) return gather<Dim, false, true>(settings, state, dt);
+  gather<Dim, false, false>(settings, state, dt);
 }
 
 template void g2p<2>(const MpmSettings&, MpmState<2>*, Real);

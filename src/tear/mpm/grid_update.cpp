@@ -4,24 +4,54 @@
 
 namespace tear {
 
+namespace {
+
+// Momentum to velocity at one node of one field (mass m), with gravity.
+template <int Dim>
+void to_velocity(Real m, Vec<Dim>* v, Vec<Dim>* v_old, const Vec<Dim>& dv_gravity) {
+  if (m <= 0) {
+    v->setZero();
+    v_old->setZero();
+    return;
+  }
+  // MLS puts the stress impulse into the momentum already; velocity_old holds the force-free
+  // momentum, so FLIP differences carry stress, gravity and boundaries.
+  *v /= m;
+  *v_old /= m;
+  *v += dv_gravity;
+}
+
+// Frictionless contact between the two fields of a split node: where they approach along the
+// crack normal, both take their common centre-of-mass normal velocity (momentum conserved).
+template <int Dim>
+void field_contact(SparseGrid<Dim>* grid, size_t node) {
+  const Real m1 = grid->mass[node], m2 = grid->mass2[node];
+  if (m1 <= 0 || m2 <= 0) return;
+  // The normal points from the first field's side of the crack towards the second's.
+  const Vec<Dim> n = grid->crack_normal[node].normalized();
+  Vec<Dim>& v1 = grid->velocity[node];
+  Vec<Dim>& v2 = grid->velocity2[node];
+  const Real approach = (v1 - v2).dot(n);
+  if (approach <= 0) return;
+  v1 -= (m2 / (m1 + m2) * approach) * n;
+  v2 += (m1 / (m1 + m2) * approach) * n;
+}
+
+}  // namespace
+
 template <int Dim>
 void grid_update(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
   SparseGrid<Dim>& grid = state->grid;
-  const Vec<Dim> gravity = settings.gravity.template head<Dim>().template cast<Real>();
+  const Vec<Dim> dv_gravity = dt * settings.gravity.template head<Dim>().template cast<Real>();
+  const bool split = settings.damage.split_fields;
   parallel_for(size_t(grid.num_blocks()), [&](size_t blk) {
     const size_t a = blk * SparseGrid<Dim>::kNodesPerBlock;
     for (size_t node = a; node < a + SparseGrid<Dim>::kNodesPerBlock; ++node) {
-      const Real m = grid.mass[node];
-      if (m <= 0) {
-        grid.velocity[node].setZero();
-        grid.velocity_old[node].setZero();
-        continue;
-      }
-      // MLS puts the stress impulse into the momentum already; velocity_old holds the
-      // force-free momentum, so FLIP differences carry stress, gravity and boundaries.
-      grid.velocity[node] /= m;
-      grid.velocity_old[node] /= m;
-      grid.velocity[node] += dt * gravity;
+      to_velocity<Dim>(grid.mass[node], &grid.velocity[node], &grid.velocity_old[node], dv_gravity);
+      if (!split) continue;
+      to_velocity<Dim>(grid.mass2[node], &grid.velocity2[node], &grid.velocity_old2[node],
+                       dv_gravity);
+      field_contact(&grid, node);
     }
   });
   apply_colliders<Dim>(grid, settings.walls, settings.colliders, state->time);

@@ -22,52 +22,60 @@ Mat<Dim> p2g_stress(const MpmSettings& settings, const Particles<Dim>& p, size_t
 
 namespace {
 
-// P2G with the transfer's choice made at compile time (no test per node).
-template <int Dim, bool kApic, bool kFlip>
+// P2G with the transfer's choice and crack fields made at compile time (no test per node).
+template <int Dim, bool kApic, bool kFlip, bool kSplit>
 void scatter(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
   SparseGrid<Dim>& grid = state->grid;
   const Real inv_d = BSpline1D<kTransferOrder>::kInvD / Real(settings.dx * settings.dx);
-  for_each_colour(
-      SparseGrid<Dim>::kColours, state->groups.size(),
-      [&](size_t g, int c) -> const std::vector<int>& { return grid.bins(g).colours[c]; },
-      [&](size_t g, int b) {
-        const Particles<Dim>& p = state->groups[g];
-        const ParticleBins<Dim>& bins = grid.bins(g);
-        const auto& h = bins.home_blocks[size_t(b)];
-        for (uint32_t k = h.begin; k < h.end; ++k) {
-          const uint32_t i = bins.order[k];
-          const Mat<Dim> P = p2g_stress(settings, p, i);
-          // MLS-MPM: the stress enters as an affine momentum term (Hu et al. 2018, Eq. 29).
-          Mat<Dim> affine = (-dt * p.vol0[i] * inv_d) * (P * p.F[i].transpose());
-          const Real m = p.mass[i];
-          if constexpr (kApic) affine += m * p.C[i];
-          const Vec<Dim> mv = m * p.v[i];
-          Stencil<Dim, kTransferOrder>(grid, p.x[i])
-              .visit([&](int node, Real w, const Vec<Dim>& rel) {
-                grid.mass[node] += w * m;
-                // mv + affine (x_i - x_p), row by row in scalars: Eigen's temporaries here cost
-                // store-forwarding stalls.
-                Real* momentum = grid.velocity[node].data();
-                for (int a = 0; a < Dim; ++a) {
-                  Real dv = mv[a];
-                  for (int c = 0; c < Dim; ++c) dv += affine(a, c) * rel[c];
-                  momentum[a] += w * dv;
-                }
-                if constexpr (kFlip) grid.velocity_old[node] += w * mv;  // force-free momentum
-              });
+  scatter_particles(*state, [&](size_t g, uint32_t i) {
+    const Particles<Dim>& p = state->groups[g];
+    const Mat<Dim> P = p2g_stress(settings, p, i);
+    // MLS-MPM: the stress enters as an affine momentum term (Hu et al. 2018, Eq. 29).
+    Mat<Dim> affine = (-dt * p.vol0[i] * inv_d) * (P * p.F[i].transpose());
+    const Real m = p.mass[i];
+    if constexpr (kApic) affine += m * p.C[i];
+    const Vec<Dim> mv = m * p.v[i];
+    Stencil<Dim, kTransferOrder>(grid, p.x[i]).visit([&](int node, Real w, const Vec<Dim>& rel) {
+      Real* mass = &grid.mass[node];
+      Real* momentum = grid.velocity[node].data();
+      Vec<Dim>* momentum_old = &grid.velocity_old[node];
+      if constexpr (kSplit) {
+        if (second_field(grid, node, p.damage_gradient[i])) {
+          mass = &grid.mass2[node];
+          momentum = grid.velocity2[node].data();
+          momentum_old = &grid.velocity_old2[node];
         }
-      });
+      }
+      *mass += w * m;
+      // mv + affine (x_i - x_p), row by row in scalars: Eigen's temporaries here cost
+      // store-forwarding stalls.
+      for (int a = 0; a < Dim; ++a) {
+        Real dv = mv[a];
+        for (int c = 0; c < Dim; ++c) dv += affine(a, c) * rel[c];
+        momentum[a] += w * dv;
+      }
+      if constexpr (kFlip) *momentum_old += w * mv;  // force-free momentum
+    });
+  });
+}
+
+template <int Dim, bool kSplit>
+void scatter_split(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
+  switch (settings.transfer) {
+    case Transfer::Apic: return scatter<Dim, true, false, kSplit>(settings, state, dt);
+    case Transfer::Pic: return scatter<Dim, false, false, kSplit>(settings, state, dt);
+    case Transfer::Flip: return scatter<Dim, false, true, kSplit>(settings, state, dt);
+  }
 }
 
 }  // namespace
 
 template <int Dim>
 void p2g(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
-  switch (settings.transfer) {
-    case Transfer::Apic: return scatter<Dim, true, false>(settings, state, dt);
-    case Transfer::Pic: return scatter<Dim, false, false>(settings, state, dt);
-    case Transfer::Flip: return scatter<Dim, false, true>(settings, state, dt);
-  }
+  if (settings.damage.split_fields)
+    scatter_split<Dim, true>(settings, state, dt);
+  else
+    scatter_split<Dim, false>(settings, state, dt);
 }
 
 template Mat<2> p2g_stress<2>(const MpmSettings&, const Particles<2>&, size_t);

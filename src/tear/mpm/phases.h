@@ -3,6 +3,7 @@
 // the damage phase is damage/phase_field.h's update_damage.
 #pragma once
 
+#include "tear/exec/parallel.h"
 #include "tear/mpm/settings.h"
 #include "tear/mpm/state.h"
 
@@ -20,6 +21,36 @@ void sort_particles(MpmState<Dim>* state);
 // once a step, for all consumers (the damage driving force, P2G) (mpm/constitutive.cpp).
 template <int Dim>
 void update_stress(const MpmSettings& settings, MpmState<Dim>* state);
+
+// Crack fields (settings.damage.split_fields): every particle's damage gradient, and at each
+// grid node in reach of a particle whose damage is at least split_damage a crack normal, the
+// steepest gradient among the particles in reach (mpm/crack_fields.cpp). P2G and G2P put a
+// particle whose gradient opposes a node's normal into the node's second velocity field.
+template <int Dim>
+void partition_crack_fields(const MpmSettings& settings, MpmState<Dim>* state);
+
+// Calls fn(group g, particle index i) for every particle, home blocks of one colour at a
+// time: nodes in reach of the particles are written by one thread at a time, in an order
+// that does not depend on the thread count (grid/sparse_grid.h).
+template <int Dim, class Fn>
+void scatter_particles(const MpmState<Dim>& state, Fn&& fn) {
+  const SparseGrid<Dim>& grid = state.grid;
+  for_each_colour(
+      SparseGrid<Dim>::kColours, state.groups.size(),
+      [&](size_t g, int c) -> const std::vector<int>& { return grid.bins(g).colours[c]; },
+      [&](size_t g, int b) {
+        const ParticleBins<Dim>& bins = grid.bins(g);
+        const auto& h = bins.home_blocks[size_t(b)];
+        for (uint32_t k = h.begin; k < h.end; ++k) fn(g, bins.order[k]);
+      });
+}
+
+// Whether a particle with damage gradient `gradient` belongs to the second velocity field of
+// node `node` (never where the node is not split: its crack normal is zero).
+template <int Dim>
+inline bool second_field(const SparseGrid<Dim>& grid, int node, const Vec<Dim>& gradient) {
+  return grid.crack_normal[size_t(node)].dot(gradient) < 0;
+}
 
 // Particles to grid: mass, momentum with the APIC/MLS affine term and the degraded stress
 // (MLS-MPM, Hu et al. 2018) (mpm/p2g.cpp).

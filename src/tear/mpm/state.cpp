@@ -10,6 +10,8 @@ MpmState<Dim> make_mpm_state(const MpmSettings& settings, std::vector<Particles<
   state.groups = std::move(groups);
   if (settings.damage.solver != DamageSolver::None)
     for (Particles<Dim>& g : state.groups) g.enable("drive");
+  if (settings.damage.split_fields)
+    for (Particles<Dim>& g : state.groups) g.enable("damage_gradient");
   state.grid.setup(settings.domain_min, settings.domain_max, settings.dx);
   sort_particles(&state);
   return state;

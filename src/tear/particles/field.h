@@ -56,6 +56,9 @@ inline FieldInfo optional_state_field(std::string name) {
 inline FieldInfo scratch_field(std::string name) {
   return {std::move(name), FieldRole::Scratch, {}, false};
 }
+inline FieldInfo optional_scratch_field(std::string name) {
+  return {std::move(name), FieldRole::Scratch, {}, true};
+}
 
 // Components of a field value, for frame columns: scalars have one, vectors Dim; matrices none
 // (not written).

@@ -50,6 +50,8 @@ struct Particles : FieldRegistry {
   // This step's undegraded first Piola stress P(F) and J = det F (the constitutive phase).
   Field<M> stress{this, scratch_field("stress"), M::Zero()};
   Field<Real> J{this, scratch_field("J"), 1};
+  // This step's damage gradient, where crack fields are split (mpm/crack_fields.cpp).
+  Field<V> damage_gradient{this, optional_scratch_field("damage_gradient"), V::Zero()};
 
   // Append one particle at rest (F = I, C = 0, d = 0) with id = its index.
   void push_back(const V& pos, const V& vel, const M& frame, Real m, Real v0, uint16_t mat);

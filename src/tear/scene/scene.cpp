@@ -91,7 +91,8 @@ json parse_damage(const Reader& r, const json& doc, Scene* s) {
                std::string("replaced by damage.") + (old[3] == 't' ? "tolerance" : "max_iterations") +
                    " (the implicit damage solver is no longer a CG solve on the grid)");
   }
-  r.object(*d, "damage", {"solver", "l0", "zeta", "tolerance", "max_iterations"});
+  r.object(*d, "damage",
+           {"solver", "l0", "zeta", "tolerance", "max_iterations", "split_fields", "split_damage"});
   DamageSettings& ds = s->damage;
   // Default: the explicit solver (the paper's choice: faster, same cracks) when some material
   // can be damaged, so a material's damage block is never silently ignored; "none" otherwise.
@@ -109,12 +110,18 @@ json parse_damage(const Reader& r, const json& doc, Scene* s) {
   ds.max_iterations = int(r.integer(*d, "damage", "max_iterations", ds.max_iterations));
   r.check(ds.max_iterations >= 1 && ds.max_iterations <= 100000, "damage.max_iterations",
           "must be in [1, 100000], got " + std::to_string(ds.max_iterations));
+  ds.split_fields = r.boolean(*d, "damage", "split_fields", ds.split_fields);
+  ds.split_damage = r.number(*d, "damage", "split_damage", ds.split_damage);
+  r.check(ds.split_damage > 0 && ds.split_damage <= 1, "damage.split_damage",
+          "must be in (0, 1], got " + json(ds.split_damage).dump());
   const char* solvers[] = {"none", "explicit", "implicit"};
   return {{"solver", solvers[int(ds.solver)]},
           {"l0", ds.l0},
           {"zeta", ds.zeta},
           {"tolerance", ds.tolerance},
-          {"max_iterations", ds.max_iterations}};
+          {"max_iterations", ds.max_iterations},
+          {"split_fields", ds.split_fields},
+          {"split_damage", ds.split_damage}};
 }
 
 json parse_output(const Reader& r, const json& doc, Scene* s) {

@@ -17,6 +17,8 @@ MpmSettings mpm_settings(const Scene& scene) {
   s.walls = scene.walls;
   s.colliders = scene.boundaries;
   s.damage = scene.damage;
+  // Nothing cracks without a damage solver, so no node would ever be split.
+  if (scene.damage.solver == DamageSolver::None) s.damage.split_fields = false;
   for (const MaterialSpec& m : scene.materials) {
     s.materials.push_back(m.params);
     DamageParams d = m.damage;
