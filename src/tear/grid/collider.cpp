@@ -100,7 +100,7 @@ void apply_colliders(SparseGrid<Dim>& grid, ContactType walls,
     }
   };
   // Both velocity fields of a node where crack fields are split (SparseGrid::mass2).
-  const bool split = !grid.mass2.empty();
+  const bool split = grid.split();
   parallel_for(size_t(blocks), [&](size_t blk_index) {
     const int blk = int(blk_index);
     for (int l = 0; l < SparseGrid<Dim>::kNodesPerBlock; ++l) {

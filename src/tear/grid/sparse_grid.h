@@ -93,6 +93,11 @@ class SparseGrid {
   // Size and zero the second velocity field and the crack normals of the active blocks
   // (mpm's crack fields; bin() leaves them alone). Empty vectors: no node is split.
   void zero_split_fields();
+  // Empty them (no node split this step).
+  void clear_split_fields() {
+    mass2.clear(), velocity2.clear(), velocity_old2.clear(), crack_normal.clear();
+  }
+  bool split() const { return !mass2.empty(); }
 
   // Node fields (indexed by storage index).
   std::vector<Real> mass;

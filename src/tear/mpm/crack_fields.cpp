@@ -11,6 +11,16 @@ namespace tear {
 template <int Dim>
 void partition_crack_fields(const MpmSettings& settings, MpmState<Dim>* state) {
   SparseGrid<Dim>& grid = state->grid;
+  // Until some particle reaches split_damage no node is split (damage never decreases): the
+  // grid keeps no second field and P2G, the grid update and G2P take their one-field paths.
+  const Real split = Real(settings.damage.split_damage);
+  bool cracked = false;
+  for (const Particles<Dim>& p : state->groups)
+    cracked = cracked || parallel_any(p.size(), [&](size_t i) { return p.damage[i] >= split; });
+  if (!cracked) {
+    grid.clear_split_fields();
+    return;
+  }
   grid.zero_scalar_fields();
   grid.zero_split_fields();
   // The damage on the grid, mass-weighted: d_i = sum_p w m d / sum_p w m.
@@ -52,7 +62,6 @@ void partition_crack_fields(const MpmSettings& settings, MpmState<Dim>* state) {
       grid.scalar_weight[node] = std::max(grid.scalar_weight[node], d);
     });
   });
-  const Real split = Real(settings.damage.split_damage);
   parallel_for(grid.num_active_nodes(), [&](size_t node) {
     if (grid.scalar_weight[node] < split) grid.crack_normal[node].setZero();
     grid.mass2[node] = 0;

@@ -16,7 +16,7 @@ std::vector<NodeFieldView> momentum_fields(SparseGrid<Dim>* g) {
   std::vector<NodeFieldView> fields = {node_field(g->mass.data(), n, 1),
                                        node_field(g->velocity.data()->data(), n, Dim),
                                        node_field(g->velocity_old.data()->data(), n, Dim)};
-  if (!g->mass2.empty()) {  // crack fields
+  if (g->split()) {  // crack fields
     fields.push_back(node_field(g->mass2.data(), n, 1));
     fields.push_back(node_field(g->velocity2.data()->data(), n, Dim));
     fields.push_back(node_field(g->velocity_old2.data()->data(), n, Dim));

@@ -52,7 +52,7 @@ void gather(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
 
 template <int Dim>
 void g2p(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
-  const bool flip = settings.transfer == Transfer::Flip, split = settings.damage.split_fields;
+  const bool flip = settings.transfer == Transfer::Flip, split = state->grid.split();
   if (flip && split) return gather<Dim, true, true>(settings, state, dt);
   if (flip) return gather<Dim, true, false>(settings, state, dt);
   if (split) return gather<Dim, false, true>(settings, state, dt);

@@ -43,7 +43,7 @@ template <int Dim>
 void grid_update(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
   SparseGrid<Dim>& grid = state->grid;
   const Vec<Dim> dv_gravity = dt * settings.gravity.template head<Dim>().template cast<Real>();
-  const bool split = settings.damage.split_fields;
+  const bool split = grid.split();
   parallel_for(size_t(grid.num_blocks()), [&](size_t blk) {
     const size_t a = blk * SparseGrid<Dim>::kNodesPerBlock;
     for (size_t node = a; node < a + SparseGrid<Dim>::kNodesPerBlock; ++node) {

@@ -72,7 +72,7 @@ void scatter_split(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
 
 template <int Dim>
 void p2g(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
-  if (settings.damage.split_fields)
+  if (state->grid.split())
     scatter_split<Dim, true>(settings, state, dt);
   else
     scatter_split<Dim, false>(settings, state, dt);
