@@ -1,4 +1,5 @@
-// The grid update phase: momenta to velocities, gravity, walls and colliders.
+// The grid update phase: momenta to velocities, gravity, contact between the two velocity fields
+// of a split node (crack fields), walls and colliders.
 #include "tear/exec/parallel.h"
 #include "tear/mpm/phases.h"
 

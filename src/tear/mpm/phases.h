@@ -57,7 +57,8 @@ inline bool second_field(const SparseGrid<Dim>& grid, int node, const Vec<Dim>& 
 template <int Dim>
 void p2g(const MpmSettings& settings, MpmState<Dim>* state, Real dt);
 
-// Grid velocities from momenta, gravity, then domain walls and colliders (mpm/grid_update.cpp).
+// Grid velocities from momenta, gravity, contact between crack fields, then domain walls and
+// colliders (mpm/grid_update.cpp).
 template <int Dim>
 void grid_update(const MpmSettings& settings, MpmState<Dim>* state, Real dt);
 
