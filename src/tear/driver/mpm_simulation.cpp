@@ -176,8 +176,10 @@ class MpmSimulation final : public Simulation {
 
   std::vector<std::pair<std::string, double>> phase_seconds() const override {
     const PhaseTimes& t = record_.times;
-    return {{"sort", t.sort}, {"stress", t.stress}, {"damage", t.damage},
-            {"p2g", t.p2g},   {"grid", t.grid},     {"g2p", t.g2p}};
+    return {{"sort", t.sort},     {"stress", t.stress},
+            {"damage", t.damage}, {"crack fields", t.crack_fields},
+            {"p2g", t.p2g},       {"grid", t.grid},
+            {"g2p", t.g2p}};
   }
 
   size_t memory_bytes() const override {

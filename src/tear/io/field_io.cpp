@@ -49,10 +49,19 @@ void fill_frame_table(const FieldRegistry& store, const std::vector<uint32_t>& r
   }
 }
 
+namespace {
+
+// Whether a checkpoint holds field `e` of `store`: state (not scratch) with values here.
+bool checkpointed(const FieldRegistry& store, const FieldRegistry::Entry& e) {
+  return e.info().role == FieldRole::State && store.stored(e);
+}
+
+}  // namespace
+
 size_t fields_bytes(const FieldRegistry& store) {
   size_t bytes = sizeof(uint32_t);
   for (const FieldRegistry::Entry& e : store.entries()) {
-    if (e.info().role != FieldRole::State || !store.stored(e)) continue;
+    if (!checkpointed(store, e)) continue;
     bytes += 2 * sizeof(uint32_t) + sizeof(uint64_t) + e.info().name.size() +
              store.field_size(e) * e.element_bytes();
   }
@@ -68,10 +77,10 @@ std::vector<uint32_t> rows_by_id(const std::vector<uint32_t>& id) {
 void put_fields(const FieldRegistry& store, ByteWriter* w) {
   uint32_t count = 0;
   for (const FieldRegistry::Entry& e : store.entries())
-    if (e.info().role == FieldRole::State && store.stored(e)) ++count;
+    if (checkpointed(store, e)) ++count;
   w->put<uint32_t>(count);
   for (const FieldRegistry::Entry& e : store.entries()) {
-    if (e.info().role != FieldRole::State || !store.stored(e)) continue;
+    if (!checkpointed(store, e)) continue;
     const std::string& name = e.info().name;
     w->put<uint32_t>(uint32_t(name.size()));
     w->bytes().append(name);
@@ -88,7 +97,7 @@ void get_fields(ByteReader* r, size_t count, FieldRegistry* store) {
   };
   std::vector<const FieldRegistry::Entry*> expected;
   for (const FieldRegistry::Entry& e : store->entries())
-    if (e.info().role == FieldRole::State && store->stored(e)) expected.push_back(&e);
+    if (checkpointed(*store, e)) expected.push_back(&e);
   const uint32_t fields = r->get<uint32_t>();
   for (size_t k = 0; k < expected.size(); ++k) {
     const FieldRegistry::Entry* e = expected[k];

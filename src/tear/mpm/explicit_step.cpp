@@ -52,7 +52,7 @@ void explicit_step(const MpmSettings& settings, MpmState<Dim>* state, double dt,
                   &record->damage, domain);
   }
   if (settings.damage.split_fields) {
-    PhaseTimer timer(&t.damage);
+    PhaseTimer timer(&t.crack_fields);
     partition_crack_fields(settings, state);
   }
   {

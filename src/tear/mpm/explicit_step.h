@@ -11,7 +11,7 @@ namespace tear {
 
 // Wall-clock seconds spent in each phase.
 struct PhaseTimes {
-  double sort = 0, stress = 0, damage = 0, p2g = 0, grid = 0, g2p = 0;
+  double sort = 0, stress = 0, damage = 0, crack_fields = 0, p2g = 0, grid = 0, g2p = 0;
 };
 
 // What steps leave behind besides the state: phase times and the implicit damage solver's
