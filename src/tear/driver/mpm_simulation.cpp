@@ -2,6 +2,7 @@
 // integrator, frame tables and checkpoints from the particle field registry.
 #include "tear/driver/simulation.h"
 #include "tear/exec/domain.h"
+#include "tear/exec/memory.h"
 #include "tear/io/binary.h"
 #include "tear/io/field_io.h"
 #include "tear/mpm/explicit_step.h"
@@ -106,7 +107,7 @@ class MpmSimulation final : public Simulation {
     w.bytes() = kCheckpointMagic;
     size_t bytes = 256;  // the header
     for (const Particles<Dim>& g : state_.groups) bytes += fields_bytes(g);
-    w.bytes().reserve(bytes);  // one allocation: growing by doubling costs more than the copy
+    reserve_large(&w.bytes(), bytes);  // one allocation: growing costs more than the copy
     w.put<int32_t>(Dim);
     w.put<int32_t>(sizeof(Real));
     w.put<uint32_t>(uint32_t(state_.groups.size()));

@@ -3,6 +3,7 @@
 #include <atomic>
 #include <stdexcept>
 
+#include "tear/exec/memory.h"
 #include "tear/exec/parallel.h"
 
 #include <algorithm>
@@ -48,6 +49,7 @@ void SparseGrid<Dim>::bin(const std::vector<const std::vector<Vec<Dim>>*>& group
     const std::vector<Vec<Dim>>& x = *groups[g];
     ParticleBins<Dim>& b = bins_[g];
     const size_t n = x.size();
+    reserve_large(&b.particle_slot, n);
     b.particle_slot.resize(n);
     // Positions are clamped inside the domain, so only a NaN or infinity (an unstable run)
     // can fall outside the slot table; that is the user's problem to hear about, not an abort.
@@ -109,6 +111,7 @@ void SparseGrid<Dim>::bin(const std::vector<const std::vector<Vec<Dim>>*>& group
       }
       b.home_blocks.push_back({home_slots[h], begin, offset});
     }
+    reserve_large(&b.order, n);
     b.order.resize(n);
     parallel_for(chunks, [&](size_t c) {
       uint32_t* cursor = &place[c * homes];
@@ -145,6 +148,8 @@ void SparseGrid<Dim>::bin(const std::vector<const std::vector<Vec<Dim>>*>& group
 
   const size_t nodes = block_slot_.size() * kNodesPerBlock;
   if (mass.size() < nodes) {
+    reserve_large(&mass, nodes), reserve_large(&velocity, nodes);
+    reserve_large(&velocity_old, nodes);
     mass.resize(nodes), velocity.resize(nodes), velocity_old.resize(nodes);
   }
   parallel_for(block_slot_.size(), [&](size_t blk) {

@@ -77,6 +77,9 @@ class SparseGrid {
   // = +1 block along axis d), and the padded node coordinates of the home block origin.
   void neighbourhood(const Vec<Dim>& xg, std::array<int, kColours>* ids,
                      IVec<Dim>* home_origin) const;
+  // The same for the home block at slot `home_slot` (grid/block_window.h).
+  void home_neighbourhood(int home_slot, std::array<int, kColours>* ids,
+                          IVec<Dim>* home_origin) const;
 
   // Bytes held by the table and node fields.
   size_t memory_bytes() const;
@@ -119,6 +122,8 @@ class SparseGrid {
     return s;
   }
   IVec<Dim> slot_coord(int slot) const;
+  // Block ids of the slot s0 and its +1 neighbours (index bit d set: +1 along axis d).
+  void neighbour_ids(int s0, std::array<int, kColours>* ids) const;
 
   double dx_ = 1;
   Vec<Dim> origin_ = Vec<Dim>::Zero();
@@ -203,7 +208,19 @@ inline void SparseGrid<Dim>::neighbourhood(const Vec<Dim>& xg, std::array<int, k
     b[d] = (BSpline1D<3>::base_node(xg[d]) + kPad) >> kLogBlock;
     (*home_origin)[d] = b[d] << kLogBlock;
   }
-  const int s0 = slot_of(b);
+  neighbour_ids(slot_of(b), ids);
+}
+
+template <int Dim>
+inline void SparseGrid<Dim>::home_neighbourhood(int s0, std::array<int, kColours>* ids,
+                                                IVec<Dim>* home_origin) const {
+  const IVec<Dim> b = slot_coord(s0);
+  for (int d = 0; d < Dim; ++d) (*home_origin)[d] = b[d] << kLogBlock;
+  neighbour_ids(s0, ids);
+}
+
+template <int Dim>
+inline void SparseGrid<Dim>::neighbour_ids(int s0, std::array<int, kColours>* ids) const {
   int stride[Dim];
   stride[0] = 1;
   for (int d = 1; d < Dim; ++d) stride[d] = stride[d - 1] * n_slots_[d - 1];

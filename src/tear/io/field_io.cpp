@@ -1,5 +1,6 @@
 #include "tear/io/field_io.h"
 
+#include "tear/exec/memory.h"
 #include "tear/exec/parallel.h"
 
 #include <stdexcept>
@@ -36,7 +37,7 @@ void fill_frame_table(const FieldRegistry& store, const std::vector<uint32_t>& r
     t.columns.resize(names.size());
   }
   t.count = rows.size();
-  for (std::vector<double>& c : t.columns) c.resize(rows.size());
+  for (std::vector<double>& c : t.columns) reserve_large(&c, rows.size()), c.resize(rows.size());
   for (size_t j = 0; j < columns.size();) {
     const FieldRegistry::Entry& e = *columns[j].first;
     const size_t n = e.info().columns.names.size();

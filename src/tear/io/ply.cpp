@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <stdexcept>
 
+#include "tear/exec/memory.h"
 #include "tear/exec/parallel.h"
 #include "tear/io/endian.h"
 #include "tear/io/ply_header.h"
@@ -45,6 +46,7 @@ std::string encode_ply(const PointTable& t) {
   }
   out += "end_header\n";
   const size_t header = out.size();
+  reserve_large(&out, header + row * t.count);
   out.resize(header + row * t.count);
   // Vertex-major: row i holds every column's value i. Values must fit the column's type. Rows
   // are independent: chunks of them in parallel.

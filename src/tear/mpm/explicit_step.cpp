@@ -42,7 +42,7 @@ void explicit_step(const MpmSettings& settings, MpmState<Dim>* state, double dt,
     PhaseTimer timer(&t.sort);
     sort_particles(state);
   }
-  {
+  if (has_stress_phase(settings)) {
     PhaseTimer timer(&t.stress);
     update_stress(settings, state);
   }

@@ -1,6 +1,7 @@
 // The G2P phase: particle velocity, affine matrix, position and deformation gradient.
 #include "tear/exec/parallel.h"
 #include "tear/mpm/phases.h"
+#include "tear/mpm/transfer_window.h"
 
 #include <cmath>
 
@@ -18,32 +19,46 @@ void gather(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
       Real(settings.flip_relaxation_time > 0 ? std::exp(-double(dt) / settings.flip_relaxation_time)
                                              : settings.flip_ratio);
   // Particles are kept one cell inside the domain.
-  Vec<Dim> lo, hi;
+  Vec<Dim> lo_x, hi_x;
   for (int d = 0; d < Dim; ++d) {
-    lo[d] = Real(settings.domain_min[d] + settings.dx);
-    hi[d] = Real(settings.domain_max[d] - settings.dx);
+    lo_x[d] = Real(settings.domain_min[d] + settings.dx);
+    hi_x[d] = Real(settings.domain_max[d] - settings.dx);
   }
-  for (Particles<Dim>& p : state->groups) {
-    parallel_for(p.size(), [&](size_t i) {
-      Vec<Dim> v = Vec<Dim>::Zero(), v_old = Vec<Dim>::Zero();
-      Mat<Dim> B = Mat<Dim>::Zero();
-      Stencil<Dim, kTransferOrder>(grid, p.x[i]).visit([&](int node, Real w, const Vec<Dim>& rel) {
-        const Vec<Dim>* vel = &grid.velocity[node];
-        const Vec<Dim>* vel_old = &grid.velocity_old[node];
-        if constexpr (kSplit) {
-          if (second_field(grid, node, p.damage_gradient[i]))
-            vel = &grid.velocity2[node], vel_old = &grid.velocity_old2[node];
-        }
-        const Vec<Dim> wv = w * *vel;
-        v += wv;
-        for (int c = 0; c < Dim; ++c) B.col(c) += wv * rel[c];  // B += wv (x_i - x_p)^T
-        if constexpr (flip) v_old += w * *vel_old;
-      });
-      const Mat<Dim> C = B * inv_d;  // velocity gradient estimate (APIC B D^-1)
-      p.C[i] = C;
-      p.F[i] = (Mat<Dim>::Identity() + dt * C) * p.F[i];
-      p.v[i] = flip ? Vec<Dim>(ratio * (p.v[i] + v - v_old) + (1 - ratio) * v) : v;
-      p.x[i] = (p.x[i] + dt * v).cwiseMax(lo).cwiseMin(hi);
+  // Home blocks in parallel; each copies the nodes its particles reach into a window.
+  for (size_t g = 0; g < state->groups.size(); ++g) {
+    Particles<Dim>& p = state->groups[g];
+    const ParticleBins<Dim>& bins = grid.bins(g);
+    parallel_for(bins.home_blocks.size(), [&](size_t b) {
+      const typename SparseGrid<Dim>::HomeBlock& h = bins.home_blocks[b];
+      const BlockWindow<Dim> window(grid, h.slot);
+      IVec<Dim> lo, hi;
+      window.template reach<kTransferOrder>(p.x, bins.order.data(), h.begin, h.end, &lo, &hi);
+      thread_local TransferWindow<Dim, kFlip, kSplit> win;
+      win.template load<false>(grid, window, lo, hi);
+      constexpr int kSecond = kSplit ? 1 : 0;
+      const Vec<Dim>* const velocity[2] = {win.field[0].v.data(), win.field[kSecond].v.data()};
+      const Vec<Dim>* const velocity_old[2] = {win.field[0].v_old.data(),
+                                               win.field[kSecond].v_old.data()};
+      const Vec<Dim>* const normal = win.normal.data();
+      for (uint32_t k = h.begin; k < h.end; ++k) {
+        const uint32_t i = bins.order[k];
+        Vec<Dim> v = Vec<Dim>::Zero(), v_old = Vec<Dim>::Zero();
+        Mat<Dim> B = Mat<Dim>::Zero();
+        WindowStencil<Dim, kTransferOrder>(window, p.x[i]).visit([&](int wn, Real w,
+                                                                     const Vec<Dim>& rel) {
+          int f = 0;
+          if constexpr (kSplit) f = second_field(normal[wn], p.damage_gradient[i]) ? 1 : 0;
+          const Vec<Dim> wv = w * velocity[f][wn];
+          v += wv;
+          for (int c = 0; c < Dim; ++c) B.col(c) += wv * rel[c];  // B += wv (x_i - x_p)^T
+          if constexpr (flip) v_old += w * velocity_old[f][wn];
+        });
+        const Mat<Dim> C = B * inv_d;  // velocity gradient estimate (APIC B D^-1)
+        p.C[i] = C;
+        p.F[i] = (Mat<Dim>::Identity() + dt * C) * p.F[i];
+        p.v[i] = flip ? Vec<Dim>(ratio * (p.v[i] + v - v_old) + (1 - ratio) * v) : v;
+        p.x[i] = (p.x[i] + dt * v).cwiseMax(lo_x).cwiseMin(hi_x);
+      }
     });
   }
 }

@@ -2,16 +2,19 @@
 #include "tear/damage/driving_force.h"
 #include "tear/exec/parallel.h"
 #include "tear/mpm/phases.h"
+#include "tear/mpm/transfer_window.h"
 
 namespace tear {
 
 template <int Dim>
 Mat<Dim> p2g_stress(const MpmSettings& settings, const Particles<Dim>& p, size_t i) {
+  const MaterialParams& m = settings.materials[p.material[i]];
+  // Without the constitutive phase (no damage), the stress is made here: P2G is its only use.
+  if (!has_stress_phase(settings)) return first_piola<Dim>(m, p.F[i], p.fiber[i]);
   const DamageParams& dp = settings.material_damage[p.material[i]];
   if (!dp.enabled) return p.stress[i];  // g = 1
   // Damageable particles (qr_aniso only: the scene refuses damage on other models): the
   // undegraded stress degraded in closed form, without a second QR, where det F > 0.
-  const MaterialParams& m = settings.materials[p.material[i]];
   if (p.J[i] > 0) {
     if (p.damage[i] == 0) return p.stress[i];
     return degrade_qr_stress<Dim>(m, p.F[i], p.stress[i],
@@ -23,39 +26,52 @@ Mat<Dim> p2g_stress(const MpmSettings& settings, const Particles<Dim>& p, size_t
 namespace {
 
 // P2G with the transfer's choice and crack fields made at compile time (no test per node).
+// Home blocks of one colour in parallel; each copies the nodes its particles reach into a
+// window, adds its particles there in ascending order and copies the sums back: the same
+// additions in the same order as adding into the grid directly.
 template <int Dim, bool kApic, bool kFlip, bool kSplit>
 void scatter(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
   SparseGrid<Dim>& grid = state->grid;
   const Real inv_d = BSpline1D<kTransferOrder>::kInvD / Real(settings.dx * settings.dx);
-  scatter_particles(*state, [&](size_t g, uint32_t i) {
+  scatter_home_blocks(*state, [&](size_t g, const typename SparseGrid<Dim>::HomeBlock& h) {
     const Particles<Dim>& p = state->groups[g];
-    const Mat<Dim> P = p2g_stress(settings, p, i);
-    // MLS-MPM: the stress enters as an affine momentum term (Hu et al. 2018, Eq. 29).
-    Mat<Dim> affine = (-dt * p.vol0[i] * inv_d) * (P * p.F[i].transpose());
-    const Real m = p.mass[i];
-    if constexpr (kApic) affine += m * p.C[i];
-    const Vec<Dim> mv = m * p.v[i];
-    Stencil<Dim, kTransferOrder>(grid, p.x[i]).visit([&](int node, Real w, const Vec<Dim>& rel) {
-      Real* mass = &grid.mass[node];
-      Real* momentum = grid.velocity[node].data();
-      Vec<Dim>* momentum_old = &grid.velocity_old[node];
-      if constexpr (kSplit) {
-        if (second_field(grid, node, p.damage_gradient[i])) {
-          mass = &grid.mass2[node];
-          momentum = grid.velocity2[node].data();
-          momentum_old = &grid.velocity_old2[node];
+    const uint32_t* order = grid.bins(g).order.data();
+    const BlockWindow<Dim> window(grid, h.slot);
+    IVec<Dim> lo, hi;
+    window.template reach<kTransferOrder>(p.x, order, h.begin, h.end, &lo, &hi);
+    thread_local TransferWindow<Dim, kFlip, kSplit> win;
+    win.template load<true>(grid, window, lo, hi);
+    constexpr int kSecond = kSplit ? 1 : 0;
+    Real* const mass[2] = {win.field[0].m.data(), win.field[kSecond].m.data()};
+    Vec<Dim>* const momentum[2] = {win.field[0].v.data(), win.field[kSecond].v.data()};
+    Vec<Dim>* const momentum_old[2] = {win.field[0].v_old.data(),
+                                       win.field[kSecond].v_old.data()};
+    const Vec<Dim>* const normal = win.normal.data();
+    for (uint32_t k = h.begin; k < h.end; ++k) {
+      const uint32_t i = order[k];
+      const Mat<Dim> P = p2g_stress(settings, p, i);
+      // MLS-MPM: the stress enters as an affine momentum term (Hu et al. 2018, Eq. 29).
+      Mat<Dim> affine = (-dt * p.vol0[i] * inv_d) * (P * p.F[i].transpose());
+      const Real m = p.mass[i];
+      if constexpr (kApic) affine += m * p.C[i];
+      const Vec<Dim> mv = m * p.v[i];
+      WindowStencil<Dim, kTransferOrder>(window, p.x[i]).visit([&](int wn, Real w,
+                                                                   const Vec<Dim>& rel) {
+        int f = 0;
+        if constexpr (kSplit) f = second_field(normal[wn], p.damage_gradient[i]) ? 1 : 0;
+        mass[f][wn] += w * m;
+        // mv + affine (x_i - x_p), row by row in scalars: Eigen's temporaries here cost
+        // store-forwarding stalls.
+        Real* mom = momentum[f][wn].data();
+        for (int a = 0; a < Dim; ++a) {
+          Real dv = mv[a];
+          for (int c = 0; c < Dim; ++c) dv += affine(a, c) * rel[c];
+          mom[a] += w * dv;
         }
-      }
-      *mass += w * m;
-      // mv + affine (x_i - x_p), row by row in scalars: Eigen's temporaries here cost
-      // store-forwarding stalls.
-      for (int a = 0; a < Dim; ++a) {
-        Real dv = mv[a];
-        for (int c = 0; c < Dim; ++c) dv += affine(a, c) * rel[c];
-        momentum[a] += w * dv;
-      }
-      if constexpr (kFlip) *momentum_old += w * mv;  // force-free momentum
-    });
+        if constexpr (kFlip) momentum_old[f][wn] += w * mv;  // force-free momentum
+      });
+    }
+    win.store(&grid, window, lo, hi);
   });
 }
 

@@ -22,6 +22,14 @@ void sort_particles(MpmState<Dim>* state);
 template <int Dim>
 void update_stress(const MpmSettings& settings, MpmState<Dim>* state);
 
+// Whether a step runs the constitutive phase: only when damage is on, the one consumer of the
+// stress before P2G. Otherwise P2G computes each particle's stress as it goes (a pass over
+// the particles and the stress field's traffic fewer); the stress and J fields are then
+// unused.
+inline bool has_stress_phase(const MpmSettings& settings) {
+  return settings.damage.solver != DamageSolver::None;
+}
+
 // Crack fields (settings.damage.split_fields): every particle's damage gradient, and at each
 // grid node in reach of a particle whose damage is at least split_damage a crack normal, the
 // steepest gradient among the particles in reach (mpm/crack_fields.cpp). P2G and G2P put a
@@ -29,27 +37,34 @@ void update_stress(const MpmSettings& settings, MpmState<Dim>* state);
 template <int Dim>
 void partition_crack_fields(const MpmSettings& settings, MpmState<Dim>* state);
 
-// Calls fn(group g, particle index i) for every particle, home blocks of one colour at a
-// time: nodes in reach of the particles are written by one thread at a time, in an order
-// that does not depend on the thread count (grid/sparse_grid.h).
+// Calls fn(group g, home block h) for every home block of every group (grid.bins(g)), one
+// colour at a time: nodes in reach of the particles of the blocks of a colour are written by
+// one thread at a time, in an order that does not depend on the thread count
+// (grid/sparse_grid.h).
 template <int Dim, class Fn>
-void scatter_particles(const MpmState<Dim>& state, Fn&& fn) {
+void scatter_home_blocks(const MpmState<Dim>& state, Fn&& fn) {
   const SparseGrid<Dim>& grid = state.grid;
   for_each_colour(
       SparseGrid<Dim>::kColours, state.groups.size(),
       [&](size_t g, int c) -> const std::vector<int>& { return grid.bins(g).colours[c]; },
-      [&](size_t g, int b) {
-        const ParticleBins<Dim>& bins = grid.bins(g);
-        const auto& h = bins.home_blocks[size_t(b)];
-        for (uint32_t k = h.begin; k < h.end; ++k) fn(g, bins.order[k]);
-      });
+      [&](size_t g, int b) { fn(g, grid.bins(g).home_blocks[size_t(b)]); });
+}
+
+// Calls fn(group g, particle index i) for every particle, as scatter_home_blocks orders them
+// (particles of a home block in ascending order).
+template <int Dim, class Fn>
+void scatter_particles(const MpmState<Dim>& state, Fn&& fn) {
+  scatter_home_blocks(state, [&](size_t g, const typename SparseGrid<Dim>::HomeBlock& h) {
+    const std::vector<uint32_t>& order = state.grid.bins(g).order;
+    for (uint32_t k = h.begin; k < h.end; ++k) fn(g, order[k]);
+  });
 }
 
 // Whether a particle with damage gradient `gradient` belongs to the second velocity field of
-// node `node` (never where the node is not split: its crack normal is zero).
+// a node with crack normal `normal` (never where the node is not split: its normal is zero).
 template <int Dim>
-inline bool second_field(const SparseGrid<Dim>& grid, int node, const Vec<Dim>& gradient) {
-  return grid.crack_normal[size_t(node)].dot(gradient) < 0;
+inline bool second_field(const Vec<Dim>& normal, const Vec<Dim>& gradient) {
+  return normal.dot(gradient) < 0;
 }
 
 // Particles to grid: mass, momentum with the APIC/MLS affine term and the degraded stress

@@ -4,6 +4,7 @@
 // declaration. Knows nothing of grids, materials, files or scenes.
 #pragma once
 
+#include "tear/exec/memory.h"
 #include "tear/exec/parallel.h"
 #include "tear/math/types.h"
 
@@ -228,6 +229,7 @@ void FieldRegistry::add(std::vector<T>* field, FieldInfo info, T default_value) 
   e.resize_ = [](void* f, size_t n, const char* def) {
     V& v = *static_cast<V*>(f);
     const size_t old = v.size();
+    reserve_large(&v, n);
     v.resize(n);
     auto fill = [&](size_t a, size_t b) {
       for (size_t i = a; i < b; ++i) std::memcpy(static_cast<void*>(&v[i]), def, sizeof(T));
@@ -238,7 +240,7 @@ void FieldRegistry::add(std::vector<T>* field, FieldInfo info, T default_value) 
       fill(old + c * kFill, std::min(n, old + (c + 1) * kFill));
     });
   };
-  e.reserve_ = [](void* f, size_t n) { static_cast<V*>(f)->reserve(n); };
+  e.reserve_ = [](void* f, size_t n) { reserve_large(static_cast<V*>(f), n); };
   e.capacity_ = [](const void* f) { return static_cast<const V*>(f)->capacity(); };
   e.data_ = [](void* f) { return reinterpret_cast<char*>(static_cast<V*>(f)->data()); };
   e.component_ = [](const void* f, size_t i, int k) {
@@ -247,7 +249,8 @@ void FieldRegistry::add(std::vector<T>* field, FieldInfo info, T default_value) 
   e.permute_ = [](void* f, const std::vector<uint32_t>& order, std::vector<char>* scratch) {
     V& v = *static_cast<V*>(f);
     const size_t n = order.size();
-    if (scratch->size() < n * sizeof(T)) scratch->resize(n * sizeof(T));
+    if (scratch->size() < n * sizeof(T))
+      reserve_large(scratch, n * sizeof(T)), scratch->resize(n * sizeof(T));
     T* out = reinterpret_cast<T*>(scratch->data());
     const T* in = v.data();
     parallel_for(

@@ -1,0 +1,130 @@
+// A dense window over one home block's neighbourhood: the 2^Dim blocks that its particles'
+// stencils reach (the home block and its +1 neighbours, all active), as one array of
+// (2 kBlock)^Dim nodes with fixed strides. A transfer copies the nodes its particles reach
+// into such a window, runs their stencils there (rows of consecutive entries, no block lookup
+// per node), and copies sums back: P2G and G2P (mpm/) work this way.
+#pragma once
+
+#include "tear/grid/sparse_grid.h"
+
+#include <algorithm>
+
+namespace tear {
+
+template <int Dim>
+class BlockWindow {
+ public:
+  using Grid = SparseGrid<Dim>;
+  static constexpr int kWidth = 2 * Grid::kBlock;  // nodes per axis: 16 in 2D, 8 in 3D
+  static constexpr int kSize = Dim == 2 ? kWidth * kWidth : kWidth * kWidth * kWidth;
+
+  BlockWindow(const Grid& grid, int home_slot) : grid_(grid) {
+    grid.home_neighbourhood(home_slot, &ids_, &origin_);
+  }
+
+  // Window coordinates (0 .. kWidth - 1 per axis) of the first node of the B-spline stencil
+  // of order `Order` at position x (x must be in a particle of this home block).
+  template <int Order>
+  IVec<Dim> stencil_base(const Vec<Dim>& x) const {
+    IVec<Dim> b;
+    const Real inv_dx = Real(1 / grid_.dx());
+    for (int d = 0; d < Dim; ++d)
+      b[d] = BSpline1D<Order>::base_node((x[d] - grid_.origin()[d]) * inv_dx) + Grid::kPad -
+             origin_[d];
+    return b;
+  }
+
+  // A box [lo, hi] of window coordinates that holds the stencils of order `Order` of the
+  // particles order[begin, end) at positions x (particles of this home block): the nodes that
+  // any particle of the home block can reach, or where the block has few particles, the
+  // nodes these reach (a pass over their positions).
+  template <int Order, class Positions>
+  void reach(const Positions& x, const uint32_t* order, uint32_t begin, uint32_t end,
+             IVec<Dim>* lo, IVec<Dim>* hi) const {
+    // Home-block particles have cubic base nodes 0 .. kBlock - 1, so every stencil of order
+    // <= 3 lies in 0 .. kBlock + 2.
+    static_assert(Order <= 3, "stencils wider than cubic leave the window");
+    constexpr int kReach = Grid::kBlock + std::min(Order, 2) + 1;
+    constexpr int kFull = Dim == 2 ? kReach * kReach : kReach * kReach * kReach;
+    if (end - begin >= uint32_t(kFull / 4)) {
+      lo->setZero(), hi->setConstant(kReach - 1);
+      return;
+    }
+    lo->setConstant(kWidth), hi->setConstant(-1);
+    for (uint32_t k = begin; k < end; ++k) {
+      const IVec<Dim> b = stencil_base<Order>(x[order[k]]);
+      *lo = lo->cwiseMin(b), *hi = hi->cwiseMax(b);
+    }
+    *hi = (*hi + IVec<Dim>::Constant(Order)).cwiseMin(IVec<Dim>::Constant(kWidth - 1));
+  }
+
+  // Calls fn(window index, node storage index) for every node of the box [lo, hi].
+  template <class Fn>
+  void for_each_node(const IVec<Dim>& lo, const IVec<Dim>& hi, Fn&& fn) const {
+    constexpr int kB = Grid::kBlock, kL = Grid::kLogBlock, kNpb = Grid::kNodesPerBlock;
+    for (int z = (Dim == 3 ? lo[Dim - 1] : 0); z <= (Dim == 3 ? hi[Dim - 1] : 0); ++z)
+      for (int y = lo[1]; y <= hi[1]; ++y) {
+        const int bits = ((y >> kL) << 1) | (Dim == 3 ? (z >> kL) << 2 : 0);
+        const int local = (y & (kB - 1)) << kL | (Dim == 3 ? (z & (kB - 1)) << (2 * kL) : 0);
+        const int row = (Dim == 3 ? z * kWidth + y : y) * kWidth;
+        for (int x = lo[0]; x <= hi[0]; ++x)
+          fn(row + x, ids_[bits | (x >> kL)] * kNpb + local + (x & (kB - 1)));
+      }
+  }
+
+  const Grid& grid() const { return grid_; }
+
+ private:
+  const Grid& grid_;
+  std::array<int, Grid::kColours> ids_;  // block id of each window block (index bit d: +1 on d)
+  IVec<Dim> origin_;                     // padded node coordinates of window node 0
+};
+
+// One particle's B-spline stencil in a BlockWindow: like Stencil, but visit(fn) calls
+// fn(window index, w, rel), in the same node order (x fastest) and with the same arithmetic,
+// so sums over a window equal sums over the grid to the bit.
+template <int Dim, int Order>
+struct WindowStencil {
+  static constexpr int kWidth = Order + 1;
+  static constexpr int kW = BlockWindow<Dim>::kWidth;
+  Real w1[Dim][kWidth], rel1[Dim][kWidth];
+
+  // Inlined: called once a particle, out of line it costs 5 % of a transfer.
+  __attribute__((always_inline)) WindowStencil(const BlockWindow<Dim>& window,
+                                               const Vec<Dim>& x) {
+    const auto& grid = window.grid();
+    const Real inv_dx = Real(1 / grid.dx());
+    const Vec<Dim> xg = (x - grid.origin()) * inv_dx;
+    const IVec<Dim> b = window.template stencil_base<Order>(x);
+    TEAR_ASSERT(b.minCoeff() >= 0 && b.maxCoeff() + Order < kW);  // x is of this home block
+    first_ = Dim == 3 ? (b[2] * kW + b[1]) * kW + b[0] : b[1] * kW + b[0];
+    for (int d = 0; d < Dim; ++d) {
+      const BSpline1D<Order> s(xg[d]);
+      for (int k = 0; k < kWidth; ++k) {
+        w1[d][k] = s.w[k];
+        rel1[d][k] = (Real(s.base + k) - xg[d]) * Real(grid.dx());
+      }
+    }
+  }
+
+  template <class Fn>
+  void visit(Fn&& fn) const {
+    for (int k = 0; k < (Dim == 3 ? kWidth : 1); ++k)
+      for (int j = 0; j < kWidth; ++j) {
+        const int row = first_ + (Dim == 3 ? (k * kW + j) * kW : j * kW);
+        if constexpr (Dim == 2) {
+          for (int i = 0; i < kWidth; ++i)
+            fn(row + i, w1[0][i] * w1[1][j], Vec<2>(rel1[0][i], rel1[1][j]));
+        } else {
+          const Real wjk = w1[1][j] * w1[2][k];
+          for (int i = 0; i < kWidth; ++i)
+            fn(row + i, w1[0][i] * wjk, Vec<3>(rel1[0][i], rel1[1][j], rel1[2][k]));
+        }
+      }
+  }
+
+ private:
+  int first_;
+};
+
+}  // namespace tear

@@ -1,0 +1,89 @@
+// BlockWindow / WindowStencil (grid/block_window.h): a window stencil must visit the very nodes,
+// weights and offsets of the grid stencil, in the same order, so that P2G and G2P over
+// windows give the bits of the direct transfer; the box reach() gives must hold every stencil.
+#include "tear/grid/block_window.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+#include <vector>
+
+namespace tear {
+namespace {
+
+template <int Dim>
+std::vector<Vec<Dim>> random_points(int n, double lo, double hi, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(lo, hi);
+  std::vector<Vec<Dim>> x(n);
+  for (auto& p : x)
+    for (int d = 0; d < Dim; ++d) p[d] = Real(u(rng));
+  return x;
+}
+
+struct Visit {
+  int node;
+  Real w;
+  std::vector<Real> rel;
+  bool operator==(const Visit& o) const { return node == o.node && w == o.w && rel == o.rel; }
+};
+
+// For every home block: the window's nodes map one-to-one onto grid nodes, each particle's
+// window stencil visits what its grid stencil visits (same order, same bits), inside reach().
+template <int Dim, int Order>
+void check_windows(int particles, double lo, double hi, unsigned seed) {
+  SparseGrid<Dim> g;
+  g.setup(Vec3d::Zero(), Vec3d::Ones(), 1.0 / 40);
+  const std::vector<Vec<Dim>> x = random_points<Dim>(particles, lo, hi, seed);
+  g.bin(x);
+  const ParticleBins<Dim>& b = g.bins(0);
+  size_t checked = 0;
+  for (const auto& h : b.home_blocks) {
+    const BlockWindow<Dim> window(g, h.slot);
+    IVec<Dim> box_lo, box_hi;
+    window.template reach<Order>(x, b.order.data(), h.begin, h.end, &box_lo, &box_hi);
+    std::vector<int> node_of(BlockWindow<Dim>::kSize, -1);
+    std::vector<int> seen(g.num_active_nodes(), 0);
+    window.for_each_node(box_lo, box_hi, [&](int wn, int n) {
+      ASSERT_GE(n, 0);
+      ASSERT_LT(size_t(n), g.num_active_nodes());
+      EXPECT_EQ(node_of[size_t(wn)], -1);
+      node_of[size_t(wn)] = n;
+      EXPECT_EQ(seen[size_t(n)]++, 0);
+    });
+    for (uint32_t k = h.begin; k < h.end; ++k) {
+      const Vec<Dim>& p = x[b.order[k]];
+      std::vector<Visit> direct, windowed;
+      Stencil<Dim, Order>(g, p).visit([&](int node, Real w, const Vec<Dim>& rel) {
+        direct.push_back({node, w, std::vector<Real>(rel.data(), rel.data() + Dim)});
+      });
+      WindowStencil<Dim, Order>(window, p).visit([&](int wn, Real w, const Vec<Dim>& rel) {
+        ASSERT_GE(wn, 0);
+        ASSERT_LT(wn, BlockWindow<Dim>::kSize);
+        // -1: outside the box reach() gave.
+        windowed.push_back({node_of[size_t(wn)], w, std::vector<Real>(rel.data(), rel.data() + Dim)});
+      });
+      ASSERT_EQ(direct.size(), windowed.size());
+      for (size_t v = 0; v < direct.size(); ++v) EXPECT_TRUE(direct[v] == windowed[v]) << v;
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, x.size());
+}
+
+// Dense blocks take the whole reach of a home block, sparse ones the box of their particles.
+TEST(BlockWindow, StencilsMatchTheGridsDenseBlocks2D) { check_windows<2, 2>(20000, 0.3, 0.6, 1); }
+TEST(BlockWindow, StencilsMatchTheGridsDenseBlocks3D) { check_windows<3, 2>(60000, 0.3, 0.6, 2); }
+TEST(BlockWindow, StencilsMatchTheGridsSparseBlocks2D) { check_windows<2, 2>(300, 0.05, 0.95, 3); }
+TEST(BlockWindow, StencilsMatchTheGridsSparseBlocks3D) { check_windows<3, 2>(300, 0.05, 0.95, 4); }
+TEST(BlockWindow, CubicAndLinearStencilsFitTooDense) {
+  check_windows<3, 3>(60000, 0.3, 0.6, 5);
+  check_windows<2, 1>(20000, 0.3, 0.6, 6);
+}
+TEST(BlockWindow, CubicAndLinearStencilsFitTooSparse) {
+  check_windows<3, 3>(300, 0.05, 0.95, 7);
+  check_windows<2, 1>(300, 0.05, 0.95, 8);
+}
+
+}  // namespace
+}  // namespace tear
