@@ -1,6 +1,6 @@
-// BlockWindow / WindowStencil (grid/block_window.h): a window stencil must visit the very nodes,
-// weights and offsets of the grid stencil, in the same order, so that P2G and G2P over
-// windows give the bits of the direct transfer; the box reach() gives must hold every stencil.
+// BlockWindow / WindowStencil (grid/block_window.h): a window stencil must visit the nodes of
+// the particle's stencil (found here by their coordinates), with its weights, offsets and
+// Laplacian weights, x fastest; the box reach() gives must hold every stencil.
 #include "tear/grid/block_window.h"
 
 #include <gtest/gtest.h>
@@ -28,6 +28,43 @@ struct Visit {
   bool operator==(const Visit& o) const { return node == o.node && w == o.w && rel == o.rel; }
 };
 
+// The stencil of order Order at x computed from scratch: nodes by coordinates (node_index),
+// weights and Laplacian weights as products of 1-D B-splines (the products in the order the
+// window stencil forms them, so the bits must agree), x fastest.
+template <int Dim, int Order>
+void reference_stencil(const SparseGrid<Dim>& g, const Vec<Dim>& x, std::vector<Visit>* visits,
+                       std::vector<std::pair<int, Real>>* laplacian) {
+  const Real inv_dx = Real(1 / g.dx());
+  const Vec<Dim> xg = (x - g.origin()) * inv_dx;
+  std::vector<BSpline1D<Order>> s;
+  for (int d = 0; d < Dim; ++d) s.emplace_back(xg[d]);
+  constexpr int kW = Order + 1;
+  auto dd = [&](int d, int k) { return s[size_t(d)].ddw[k] * inv_dx * inv_dx; };
+  for (int k = 0; k < (Dim == 3 ? kW : 1); ++k)
+    for (int j = 0; j < kW; ++j)
+      for (int i = 0; i < kW; ++i) {
+        IVec<Dim> c;
+        c[0] = s[0].base + i, c[1] = s[1].base + j;
+        if constexpr (Dim == 3) c[2] = s[2].base + k;
+        std::vector<Real> rel;
+        const int idx[3] = {i, j, k};
+        for (int d = 0; d < Dim; ++d)
+          rel.push_back((Real(s[size_t(d)].base + idx[d]) - xg[d]) * Real(g.dx()));
+        Real w, lap;
+        if constexpr (Dim == 2) {
+          w = s[0].w[i] * s[1].w[j];
+          lap = dd(0, i) * s[1].w[j] + s[0].w[i] * dd(1, j);
+        } else {
+          const Real wjk = s[1].w[j] * s[2].w[k];
+          const Real ljk = dd(1, j) * s[2].w[k] + s[1].w[j] * dd(2, k);
+          w = s[0].w[i] * wjk;
+          lap = dd(0, i) * wjk + s[0].w[i] * ljk;
+        }
+        visits->push_back({g.node_index(c), w, rel});
+        laplacian->emplace_back(g.node_index(c), lap);
+      }
+}
+
 // For every home block: the window's nodes map one-to-one onto grid nodes, each particle's
 // window stencil visits what its grid stencil visits (same order, same bits), inside reach().
 template <int Dim, int Order>
@@ -54,10 +91,10 @@ void check_windows(int particles, double lo, double hi, unsigned seed) {
     for (uint32_t k = h.begin; k < h.end; ++k) {
       const Vec<Dim>& p = x[b.order[k]];
       std::vector<Visit> direct, windowed;
-      Stencil<Dim, Order>(g, p).visit([&](int node, Real w, const Vec<Dim>& rel) {
-        direct.push_back({node, w, std::vector<Real>(rel.data(), rel.data() + Dim)});
-      });
-      WindowStencil<Dim, Order>(window, p).visit([&](int wn, Real w, const Vec<Dim>& rel) {
+      std::vector<std::pair<int, Real>> lap_direct, lap_windowed;
+      reference_stencil<Dim, Order>(g, p, &direct, &lap_direct);
+      const WindowStencil<Dim, Order> st(window, p);
+      st.visit([&](int wn, Real w, const Vec<Dim>& rel) {
         ASSERT_GE(wn, 0);
         ASSERT_LT(wn, BlockWindow<Dim>::kSize);
         // -1: outside the box reach() gave.
@@ -65,6 +102,9 @@ void check_windows(int particles, double lo, double hi, unsigned seed) {
       });
       ASSERT_EQ(direct.size(), windowed.size());
       for (size_t v = 0; v < direct.size(); ++v) EXPECT_TRUE(direct[v] == windowed[v]) << v;
+      // The Laplacian weights too (the damage phase's gather).
+      st.visit_laplacian([&](int wn, Real l) { lap_windowed.emplace_back(node_of[size_t(wn)], l); });
+      EXPECT_TRUE(lap_direct == lap_windowed);
       ++checked;
     }
   }

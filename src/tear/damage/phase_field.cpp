@@ -2,6 +2,7 @@
 
 #include "tear/damage/driving_force.h"
 #include "tear/exec/parallel.h"
+#include "tear/grid/block_window.h"
 
 #include <algorithm>
 #include <cmath>
@@ -52,14 +53,28 @@ void damage_to_grid(const Groups<Dim>& groups, SparseGrid<Dim>* grid, const Bloc
         const Particles<Dim>& p = groups[gr];
         const ParticleBins<Dim>& bins = g.bins(gr);
         const auto& h = bins.home_blocks[size_t(b)];
+        // In a window of the nodes the block's particles reach (grid/block_window.h): the
+        // same additions in the same order as into the grid.
+        const BlockWindow<Dim> window(g, h.slot);
+        IVec<Dim> lo, hi;
+        window.template reach<kDamageOrder>(p.x, bins.order.data(), h.begin, h.end, &lo, &hi);
+        thread_local std::vector<Real> value(BlockWindow<Dim>::kSize),
+            weight(BlockWindow<Dim>::kSize);
+        window.load(g.scalar, value.data(), lo, hi);
+        window.load(g.scalar_weight, weight.data(), lo, hi);
+        Real* const sum = value.data();
+        Real* const sum_w = weight.data();
         for (uint32_t k = h.begin; k < h.end; ++k) {
           const uint32_t q = bins.order[k];
           const Real d = p.damage[q];
-          Stencil<Dim, kDamageOrder>(g, p.x[q]).visit([&](int i, Real w, const Vec<Dim>&) {
-            g.scalar[i] += w * d;
-            g.scalar_weight[i] += w;
-          });
+          WindowStencil<Dim, kDamageOrder>(window, p.x[q]).visit(
+              [&](int i, Real w, const Vec<Dim>&) {
+                sum[i] += w * d;
+                sum_w[i] += w;
+              });
         }
+        window.store(sum, &g.scalar, lo, hi);
+        window.store(sum_w, &g.scalar_weight, lo, hi);
       });
   const size_t n = g.num_active_nodes();
   domain.sum_halos({node_field(g.scalar.data(), n, 1), node_field(g.scalar_weight.data(), n, 1)});
@@ -87,15 +102,24 @@ Real damage_sweep(Groups<Dim>* groups, const SparseGrid<Dim>& grid,
       if (!visit[g][b]) return;
       Real block_most = 0;
       bool damaged = false;
-      for (uint32_t k = bins.home_blocks[b].begin; k < bins.home_blocks[b].end; ++k) {
+      const auto& h = bins.home_blocks[b];
+      // The grid field near the block in a window (grid/block_window.h).
+      const BlockWindow<Dim> window(grid, h.slot);
+      thread_local std::vector<Real> value(BlockWindow<Dim>::kSize);
+      if (near[g][b]) {
+        IVec<Dim> lo, hi;
+        window.template reach<kDamageOrder>(p.x, bins.order.data(), h.begin, h.end, &lo, &hi);
+        window.load(grid.scalar, value.data(), lo, hi);
+      }
+      const Real* const field = value.data();
+      for (uint32_t k = h.begin; k < h.end; ++k) {
         const uint32_t q = bins.order[k];
         const DamageParams& dp = params[p.material[q]];
         if (!dp.enabled) continue;
         Real lap = 0;
         if (near[g][b]) {
-          Stencil<Dim, kDamageOrder>(grid, p.x[q]).visit_laplacian([&](int i, Real lap_w) {
-            lap += lap_w * grid.scalar[i];
-          });
+          WindowStencil<Dim, kDamageOrder>(window, p.x[q]).visit_laplacian(
+              [&](int i, Real lap_w) { lap += lap_w * field[i]; });
         }
         const Real old = p.damage[q];
         const Real d = rule(g, q, l2 * lap, dt / Real(dp.eta));

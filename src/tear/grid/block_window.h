@@ -72,6 +72,19 @@ class BlockWindow {
       }
   }
 
+  // Copies a node field's values in the box [lo, hi] into a window array (indexed by window
+  // index), or a window array's back into the node field.
+  template <class T>
+  void load(const std::vector<T>& field, T* window, const IVec<Dim>& lo,
+            const IVec<Dim>& hi) const {
+    for_each_node(lo, hi, [&](int wn, int n) { window[wn] = field[size_t(n)]; });
+  }
+  template <class T>
+  void store(const T* window, std::vector<T>* field, const IVec<Dim>& lo,
+             const IVec<Dim>& hi) const {
+    for_each_node(lo, hi, [&](int wn, int n) { (*field)[size_t(n)] = window[wn]; });
+  }
+
   const Grid& grid() const { return grid_; }
 
  private:
@@ -81,13 +94,14 @@ class BlockWindow {
 };
 
 // One particle's B-spline stencil in a BlockWindow: like Stencil, but visit(fn) calls
-// fn(window index, w, rel), in the same node order (x fastest) and with the same arithmetic,
-// so sums over a window equal sums over the grid to the bit.
+// fn(window index, w, rel) and visit_laplacian(fn) fn(window index, Laplacian of N_i), in the
+// same node order (x fastest) and with the same arithmetic, so sums over a window equal sums
+// over the grid to the bit.
 template <int Dim, int Order>
 struct WindowStencil {
   static constexpr int kWidth = Order + 1;
   static constexpr int kW = BlockWindow<Dim>::kWidth;
-  Real w1[Dim][kWidth], rel1[Dim][kWidth];
+  Real w1[Dim][kWidth], rel1[Dim][kWidth], dd1[Dim][kWidth];  // dd1: N'' in world units
 
   // Inlined: called once a particle, out of line it costs 5 % of a transfer.
   __attribute__((always_inline)) WindowStencil(const BlockWindow<Dim>& window,
@@ -103,27 +117,45 @@ struct WindowStencil {
       for (int k = 0; k < kWidth; ++k) {
         w1[d][k] = s.w[k];
         rel1[d][k] = (Real(s.base + k) - xg[d]) * Real(grid.dx());
+        dd1[d][k] = s.ddw[k] * inv_dx * inv_dx;
       }
     }
   }
 
   template <class Fn>
   void visit(Fn&& fn) const {
-    for (int k = 0; k < (Dim == 3 ? kWidth : 1); ++k)
-      for (int j = 0; j < kWidth; ++j) {
-        const int row = first_ + (Dim == 3 ? (k * kW + j) * kW : j * kW);
-        if constexpr (Dim == 2) {
-          for (int i = 0; i < kWidth; ++i)
-            fn(row + i, w1[0][i] * w1[1][j], Vec<2>(rel1[0][i], rel1[1][j]));
-        } else {
-          const Real wjk = w1[1][j] * w1[2][k];
-          for (int i = 0; i < kWidth; ++i)
-            fn(row + i, w1[0][i] * wjk, Vec<3>(rel1[0][i], rel1[1][j], rel1[2][k]));
-        }
+    for_rows([&](int row, int j, int k) {
+      if constexpr (Dim == 2) {
+        for (int i = 0; i < kWidth; ++i)
+          fn(row + i, w1[0][i] * w1[1][j], Vec<2>(rel1[0][i], rel1[1][j]));
+      } else {
+        const Real wjk = w1[1][j] * w1[2][k];
+        for (int i = 0; i < kWidth; ++i)
+          fn(row + i, w1[0][i] * wjk, Vec<3>(rel1[0][i], rel1[1][j], rel1[2][k]));
       }
+    });
+  }
+
+  template <class Fn>
+  void visit_laplacian(Fn&& fn) const {
+    for_rows([&](int row, int j, int k) {
+      Real wjk, ljk;
+      if constexpr (Dim == 2) {
+        wjk = w1[1][j], ljk = dd1[1][j];
+      } else {
+        wjk = w1[1][j] * w1[2][k], ljk = dd1[1][j] * w1[2][k] + w1[1][j] * dd1[2][k];
+      }
+      for (int i = 0; i < kWidth; ++i) fn(row + i, dd1[0][i] * wjk + w1[0][i] * ljk);
+    });
   }
 
  private:
+  // fn(window index of the row's first node, j, k) for every row of nodes along x.
+  template <class Fn>
+  void for_rows(Fn&& fn) const {
+    for (int k = 0; k < (Dim == 3 ? kWidth : 1); ++k)
+      for (int j = 0; j < kWidth; ++j) fn(first_ + (Dim == 3 ? (k * kW + j) * kW : j * kW), j, k);
+  }
   int first_;
 };
 

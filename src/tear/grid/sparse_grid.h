@@ -73,11 +73,9 @@ class SparseGrid {
   // Storage index of the active node at unpadded coordinates g, or -1.
   int node_index(const IVec<Dim>& g) const;
 
-  // The four block ids of a particle's home neighbourhood (2^Dim entries, index bit d set
-  // = +1 block along axis d), and the padded node coordinates of the home block origin.
-  void neighbourhood(const Vec<Dim>& xg, std::array<int, kColours>* ids,
-                     IVec<Dim>* home_origin) const;
-  // The same for the home block at slot `home_slot` (grid/block_window.h).
+  // The block ids of the neighbourhood of the home block at slot `home_slot` (2^Dim entries,
+  // index bit d set = +1 block along axis d), and the padded node coordinates of the home
+  // block origin (grid/block_window.h).
   void home_neighbourhood(int home_slot, std::array<int, kColours>* ids,
                           IVec<Dim>* home_origin) const;
 
@@ -122,8 +120,6 @@ class SparseGrid {
     return s;
   }
   IVec<Dim> slot_coord(int slot) const;
-  // Block ids of the slot s0 and its +1 neighbours (index bit d set: +1 along axis d).
-  void neighbour_ids(int s0, std::array<int, kColours>* ids) const;
 
   double dx_ = 1;
   Vec<Dim> origin_ = Vec<Dim>::Zero();
@@ -135,92 +131,13 @@ class SparseGrid {
   std::vector<ParticleBins<Dim>> bins_;  // per group
 };
 
-// One particle's B-spline stencil (Order 2 or 3), kept in separable form: per-axis weights,
-// offsets and block coordinates; nothing per node is stored (per-node arrays cost
-// store-forwarding stalls when written and read back in the same loop). visit(fn) calls fn(node, w, rel) for every node
-// with w = N_i(x_p) and rel = x_i - x_p (world units), formed on the fly; visit_laplacian(fn)
-// calls fn(node, Laplacian of N_i at x_p). Node order: x fastest.
-template <int Dim, int Order>
-struct Stencil {
-  static constexpr int kWidth = Order + 1;
-  static constexpr int kSize = Dim == 2 ? kWidth * kWidth : kWidth * kWidth * kWidth;
-  Real w1[Dim][kWidth], rel1[Dim][kWidth], dd1[Dim][kWidth];  // dd1: N'' in world units
-
-  Stencil(const SparseGrid<Dim>& grid, const Vec<Dim>& x);
-
-  template <class Fn>
-  void visit(Fn&& fn) const {
-    for_rows([&](const int* row, int j, int k) {
-      // A fresh vector per node: updating one component of a shared one in place makes the
-      // packed loads inside fn wait on a scalar store (store-forwarding stall, 2x slower).
-      if constexpr (Dim == 2) {
-        for (int i = 0; i < kWidth; ++i)
-          fn(row[bit_[0][i]] + local_[0][i], w1[0][i] * w1[1][j],
-             Vec<2>(rel1[0][i], rel1[1][j]));
-      } else {
-        const Real wjk = w1[1][j] * w1[2][k];
-        for (int i = 0; i < kWidth; ++i)
-          fn(row[bit_[0][i]] + local_[0][i], w1[0][i] * wjk,
-             Vec<3>(rel1[0][i], rel1[1][j], rel1[2][k]));
-      }
-    });
-  }
-
-  template <class Fn>
-  void visit_laplacian(Fn&& fn) const {
-    for_rows([&](const int* row, int j, int k) {
-      Real wjk, ljk;
-      if constexpr (Dim == 2) {
-        wjk = w1[1][j], ljk = dd1[1][j];
-      } else {
-        wjk = w1[1][j] * w1[2][k], ljk = dd1[1][j] * w1[2][k] + w1[1][j] * dd1[2][k];
-      }
-      for (int i = 0; i < kWidth; ++i)
-        fn(row[bit_[0][i]] + local_[0][i], dd1[0][i] * wjk + w1[0][i] * ljk);
-    });
-  }
-
- private:
-  // Calls fn(row, j, k) for every row of nodes along x: row[b] is the storage index of the
-  // row's node at local x = 0 in the x-neighbour block b (0 home, 1 next).
-  template <class Fn>
-  void for_rows(Fn&& fn) const {
-    constexpr int kNpb = SparseGrid<Dim>::kNodesPerBlock;
-    for (int k = 0; k < (Dim == 3 ? kWidth : 1); ++k)
-      for (int j = 0; j < kWidth; ++j) {
-        const int b = bit_[1][j] | (Dim == 3 ? bit_[Dim - 1][k] : 0);
-        const int l = local_[1][j] + (Dim == 3 ? local_[Dim - 1][k] : 0);
-        const int row[2] = {ids_[b] * kNpb + l, ids_[b | 1] * kNpb + l};
-        fn(row, j, k);
-      }
-  }
-  std::array<int, SparseGrid<Dim>::kColours> ids_;  // the home neighbourhood's block ids
-  int bit_[Dim][kWidth], local_[Dim][kWidth];
-};
-
 // ---- inline definitions (hot path) ----
-
-template <int Dim>
-inline void SparseGrid<Dim>::neighbourhood(const Vec<Dim>& xg, std::array<int, kColours>* ids,
-                                    IVec<Dim>* home_origin) const {
-  IVec<Dim> b;
-  for (int d = 0; d < Dim; ++d) {
-    b[d] = (BSpline1D<3>::base_node(xg[d]) + kPad) >> kLogBlock;
-    (*home_origin)[d] = b[d] << kLogBlock;
-  }
-  neighbour_ids(slot_of(b), ids);
-}
 
 template <int Dim>
 inline void SparseGrid<Dim>::home_neighbourhood(int s0, std::array<int, kColours>* ids,
                                                 IVec<Dim>* home_origin) const {
   const IVec<Dim> b = slot_coord(s0);
   for (int d = 0; d < Dim; ++d) (*home_origin)[d] = b[d] << kLogBlock;
-  neighbour_ids(s0, ids);
-}
-
-template <int Dim>
-inline void SparseGrid<Dim>::neighbour_ids(int s0, std::array<int, kColours>* ids) const {
   int stride[Dim];
   stride[0] = 1;
   for (int d = 1; d < Dim; ++d) stride[d] = stride[d - 1] * n_slots_[d - 1];
@@ -228,27 +145,6 @@ inline void SparseGrid<Dim>::neighbour_ids(int s0, std::array<int, kColours>* id
     int s = s0;
     for (int d = 0; d < Dim; ++d) s += ((c >> d) & 1) * stride[d];
     (*ids)[c] = table_[s];
-  }
-}
-
-template <int Dim, int Order>
-inline Stencil<Dim, Order>::Stencil(const SparseGrid<Dim>& grid,
-                                                      const Vec<Dim>& x) {
-  using G = SparseGrid<Dim>;
-  const Real inv_dx = Real(1 / grid.dx());
-  const Vec<Dim> xg = (x - grid.origin()) * inv_dx;
-  IVec<Dim> home;
-  grid.neighbourhood(xg, &ids_, &home);
-  for (int d = 0; d < Dim; ++d) {
-    const BSpline1D<Order> s(xg[d]);
-    for (int k = 0; k < kWidth; ++k) {
-      const int gp = s.base + k + G::kPad - home[d];  // 0 .. 2 kBlock - 1
-      bit_[d][k] = (gp >> G::kLogBlock) << d;
-      local_[d][k] = (gp & (G::kBlock - 1)) << (G::kLogBlock * d);
-      w1[d][k] = s.w[k];
-      rel1[d][k] = (Real(s.base + k) - xg[d]) * Real(grid.dx());
-      dd1[d][k] = s.ddw[k] * inv_dx * inv_dx;
-    }
   }
 }
 

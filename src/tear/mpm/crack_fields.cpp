@@ -4,6 +4,7 @@
 // them together, so particles beside a crack whose faces slide are sheared until they crack
 // too and the band widens. Here such a node holds one velocity field per side.
 #include "tear/exec/parallel.h"
+#include "tear/grid/block_window.h"
 #include "tear/mpm/phases.h"
 
 namespace tear {
@@ -23,14 +24,31 @@ void partition_crack_fields(const MpmSettings& settings, MpmState<Dim>* state) {
   }
   grid.zero_scalar_fields();
   grid.zero_split_fields();
+  // Every pass works home block by home block in a window of the nodes its particles reach
+  // (grid/block_window.h): the same operations in the same order as on the grid.
+  using HomeBlock = typename SparseGrid<Dim>::HomeBlock;
+  constexpr size_t kSize = BlockWindow<Dim>::kSize;
   // The damage on the grid, mass-weighted: d_i = sum_p w m d / sum_p w m.
-  scatter_particles(*state, [&](size_t g, uint32_t i) {
+  scatter_home_blocks(*state, [&](size_t g, const HomeBlock& h) {
     const Particles<Dim>& p = state->groups[g];
-    const Real md = p.mass[i] * p.damage[i];
-    Stencil<Dim, kTransferOrder>(grid, p.x[i]).visit([&](int node, Real w, const Vec<Dim>&) {
-      grid.scalar[node] += w * md;
-      grid.scalar_weight[node] += w * p.mass[i];
-    });
+    const uint32_t* order = grid.bins(g).order.data();
+    const BlockWindow<Dim> window(grid, h.slot);
+    IVec<Dim> lo, hi;
+    window.template reach<kTransferOrder>(p.x, order, h.begin, h.end, &lo, &hi);
+    thread_local std::vector<Real> value(kSize), weight(kSize);
+    window.load(grid.scalar, value.data(), lo, hi);
+    window.load(grid.scalar_weight, weight.data(), lo, hi);
+    for (uint32_t k = h.begin; k < h.end; ++k) {
+      const uint32_t i = order[k];
+      const Real md = p.mass[i] * p.damage[i];
+      WindowStencil<Dim, kTransferOrder>(window, p.x[i]).visit([&](int wn, Real w,
+                                                                   const Vec<Dim>&) {
+        value[size_t(wn)] += w * md;
+        weight[size_t(wn)] += w * p.mass[i];
+      });
+    }
+    window.store(value.data(), &grid.scalar, lo, hi);
+    window.store(weight.data(), &grid.scalar_weight, lo, hi);
   });
   parallel_for(grid.num_active_nodes(), [&](size_t node) {
     if (grid.scalar_weight[node] > 0) grid.scalar[node] /= grid.scalar_weight[node];
@@ -40,27 +58,56 @@ void partition_crack_fields(const MpmSettings& settings, MpmState<Dim>* state) {
   // (as APIC estimates the velocity gradient). Beside a crack it points towards the crack,
   // from either side, so its sign against a node's normal tells the sides apart.
   const Real inv_d = BSpline1D<kTransferOrder>::kInvD / Real(settings.dx * settings.dx);
-  for (Particles<Dim>& p : state->groups) {
-    parallel_for(p.size(), [&](size_t i) {
-      Vec<Dim> grad = Vec<Dim>::Zero();
-      Stencil<Dim, kTransferOrder>(grid, p.x[i]).visit([&](int node, Real w, const Vec<Dim>& rel) {
-        grad += (w * grid.scalar[node]) * rel;
-      });
-      p.damage_gradient[i] = inv_d * grad;
+  for (size_t g = 0; g < state->groups.size(); ++g) {
+    Particles<Dim>& p = state->groups[g];
+    const ParticleBins<Dim>& bins = grid.bins(g);
+    parallel_for(bins.home_blocks.size(), [&](size_t b) {
+      const HomeBlock& h = bins.home_blocks[b];
+      const BlockWindow<Dim> window(grid, h.slot);
+      IVec<Dim> lo, hi;
+      window.template reach<kTransferOrder>(p.x, bins.order.data(), h.begin, h.end, &lo, &hi);
+      thread_local std::vector<Real> value(kSize);
+      window.load(grid.scalar, value.data(), lo, hi);
+      for (uint32_t k = h.begin; k < h.end; ++k) {
+        const uint32_t i = bins.order[k];
+        Vec<Dim> grad = Vec<Dim>::Zero();
+        WindowStencil<Dim, kTransferOrder>(window, p.x[i]).visit([&](int wn, Real w,
+                                                                     const Vec<Dim>& rel) {
+          grad += (w * value[size_t(wn)]) * rel;
+        });
+        p.damage_gradient[i] = inv_d * grad;
+      }
     });
   }
   // Each node's crack normal: the steepest particle gradient in reach (strictly steeper
   // replaces, in the scatter's fixed order), kept where a particle in reach has damage
   // >= split_damage; mass2 holds the steepest squared gradient meanwhile and scalar_weight
   // the largest damage.
-  scatter_particles(*state, [&](size_t g, uint32_t i) {
+  scatter_home_blocks(*state, [&](size_t g, const HomeBlock& h) {
     const Particles<Dim>& p = state->groups[g];
-    const Vec<Dim>& grad = p.damage_gradient[i];
-    const Real steep = grad.squaredNorm(), d = p.damage[i];
-    Stencil<Dim, kTransferOrder>(grid, p.x[i]).visit([&](int node, Real, const Vec<Dim>&) {
-      if (steep > grid.mass2[node]) grid.mass2[node] = steep, grid.crack_normal[node] = grad;
-      grid.scalar_weight[node] = std::max(grid.scalar_weight[node], d);
-    });
+    const uint32_t* order = grid.bins(g).order.data();
+    const BlockWindow<Dim> window(grid, h.slot);
+    IVec<Dim> lo, hi;
+    window.template reach<kTransferOrder>(p.x, order, h.begin, h.end, &lo, &hi);
+    thread_local std::vector<Real> steepest(kSize), most(kSize);
+    thread_local std::vector<Vec<Dim>> normal(kSize);
+    window.load(grid.mass2, steepest.data(), lo, hi);
+    window.load(grid.scalar_weight, most.data(), lo, hi);
+    window.load(grid.crack_normal, normal.data(), lo, hi);
+    for (uint32_t k = h.begin; k < h.end; ++k) {
+      const uint32_t i = order[k];
+      const Vec<Dim>& grad = p.damage_gradient[i];
+      const Real steep = grad.squaredNorm(), d = p.damage[i];
+      WindowStencil<Dim, kTransferOrder>(window, p.x[i]).visit([&](int wn, Real,
+                                                                   const Vec<Dim>&) {
+        const size_t n = size_t(wn);
+        if (steep > steepest[n]) steepest[n] = steep, normal[n] = grad;
+        most[n] = std::max(most[n], d);
+      });
+    }
+    window.store(steepest.data(), &grid.mass2, lo, hi);
+    window.store(most.data(), &grid.scalar_weight, lo, hi);
+    window.store(normal.data(), &grid.crack_normal, lo, hi);
   });
   parallel_for(grid.num_active_nodes(), [&](size_t node) {
     if (grid.scalar_weight[node] < split) grid.crack_normal[node].setZero();

@@ -53,9 +53,16 @@ void gather(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
           for (int c = 0; c < Dim; ++c) B.col(c) += wv * rel[c];  // B += wv (x_i - x_p)^T
           if constexpr (flip) v_old += w * velocity_old[f][wn];
         });
-        const Mat<Dim> C = B * inv_d;  // velocity gradient estimate (APIC B D^-1)
-        p.C[i] = C;
-        p.F[i] = (Mat<Dim>::Identity() + dt * C) * p.F[i];
+        // C = B D^-1 (the APIC velocity gradient estimate), F <- (I + dt C) F, column by
+        // column: B's columns are stored in pieces (two rows packed, one alone), and reading
+        // the matrix whole at other offsets stalls on store forwarding (a fifth of G2P).
+        Mat<Dim>& C = p.C[i];
+        Mat<Dim> G;
+        for (int c = 0; c < Dim; ++c) {
+          C.col(c) = B.col(c) * inv_d;
+          G.col(c) = Vec<Dim>::Unit(c) + dt * C.col(c);
+        }
+        p.F[i] = G * p.F[i];
         p.v[i] = flip ? Vec<Dim>(ratio * (p.v[i] + v - v_old) + (1 - ratio) * v) : v;
         p.x[i] = (p.x[i] + dt * v).cwiseMax(lo_x).cwiseMin(hi_x);
       }

@@ -53,7 +53,10 @@ void scatter(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
       // MLS-MPM: the stress enters as an affine momentum term (Hu et al. 2018, Eq. 29).
       Mat<Dim> affine = (-dt * p.vol0[i] * inv_d) * (P * p.F[i].transpose());
       const Real m = p.mass[i];
-      if constexpr (kApic) affine += m * p.C[i];
+      // Column by column: the product's columns are stored in pieces (two rows packed, one
+      // alone), and adding whole matrices reads them at other offsets (store-forwarding stall).
+      if constexpr (kApic)
+        for (int c = 0; c < Dim; ++c) affine.col(c) += m * p.C[i].col(c);
       const Vec<Dim> mv = m * p.v[i];
       WindowStencil<Dim, kTransferOrder>(window, p.x[i]).visit([&](int wn, Real w,
                                                                    const Vec<Dim>& rel) {
