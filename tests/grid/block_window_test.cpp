@@ -5,21 +5,13 @@
 
 #include <gtest/gtest.h>
 
+#include "random_points.h"
+
 #include <random>
 #include <vector>
 
 namespace tear {
 namespace {
-
-template <int Dim>
-std::vector<Vec<Dim>> random_points(int n, double lo, double hi, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(lo, hi);
-  std::vector<Vec<Dim>> x(n);
-  for (auto& p : x)
-    for (int d = 0; d < Dim; ++d) p[d] = Real(u(rng));
-  return x;
-}
 
 struct Visit {
   int node;

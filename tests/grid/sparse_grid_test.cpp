@@ -4,21 +4,13 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include "random_points.h"
+
 #include <random>
 #include <set>
 
 namespace tear {
 namespace {
-
-template <int Dim>
-std::vector<Vec<Dim>> random_points(int n, double lo, double hi, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(lo, hi);
-  std::vector<Vec<Dim>> x(n);
-  for (auto& p : x)
-    for (int d = 0; d < Dim; ++d) p[d] = Real(u(rng));
-  return x;
-}
 
 // The stencil of order Order at a particle with home block `home_slot`, through the window of
 // that block (grid/block_window.h), with grid storage indices.
