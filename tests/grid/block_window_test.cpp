@@ -1,6 +1,6 @@
 // BlockWindow / WindowStencil (grid/block_window.h): a window stencil must visit the nodes of
 // the particle's stencil (found here by their coordinates), with its weights, offsets and
-// Laplacian weights, x fastest; the box reach() gives must hold every stencil.
+// Laplacian weights, x fastest; the window's box of nodes must hold every stencil.
 #include "tear/grid/block_window.h"
 
 #include <gtest/gtest.h>
@@ -58,7 +58,7 @@ void reference_stencil(const SparseGrid<Dim>& g, const Vec<Dim>& x, std::vector<
 }
 
 // For every home block: the window's nodes map one-to-one onto grid nodes, each particle's
-// window stencil visits what its grid stencil visits (same order, same bits), inside reach().
+// window stencil visits what its grid stencil visits (same order, same bits), inside the box.
 template <int Dim, int Order>
 void check_windows(int particles, double lo, double hi, unsigned seed) {
   SparseGrid<Dim> g;
@@ -68,12 +68,10 @@ void check_windows(int particles, double lo, double hi, unsigned seed) {
   const ParticleBins<Dim>& b = g.bins(0);
   size_t checked = 0;
   for (const auto& h : b.home_blocks) {
-    const BlockWindow<Dim> window(g, h.slot);
-    IVec<Dim> box_lo, box_hi;
-    window.template reach<Order>(x, b.order.data(), h.begin, h.end, &box_lo, &box_hi);
-    std::vector<int> node_of(BlockWindow<Dim>::kSize, -1);
+    const BlockWindow<Dim, Order> window(g, h, x, b.order.data());
+    std::vector<int> node_of(BlockWindow<Dim, Order>::kSize, -1);
     std::vector<int> seen(g.num_active_nodes(), 0);
-    window.for_each_node(box_lo, box_hi, [&](int wn, int n) {
+    window.for_each_node([&](int wn, int n) {
       ASSERT_GE(n, 0);
       ASSERT_LT(size_t(n), g.num_active_nodes());
       EXPECT_EQ(node_of[size_t(wn)], -1);
@@ -88,8 +86,8 @@ void check_windows(int particles, double lo, double hi, unsigned seed) {
       const WindowStencil<Dim, Order> st(window, p);
       st.visit([&](int wn, Real w, const Vec<Dim>& rel) {
         ASSERT_GE(wn, 0);
-        ASSERT_LT(wn, BlockWindow<Dim>::kSize);
-        // -1: outside the box reach() gave.
+        ASSERT_LT(wn, (BlockWindow<Dim, Order>::kSize));
+        // -1: outside the window's box.
         windowed.push_back({node_of[size_t(wn)], w, std::vector<Real>(rel.data(), rel.data() + Dim)});
       });
       ASSERT_EQ(direct.size(), windowed.size());

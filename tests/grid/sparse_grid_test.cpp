@@ -12,14 +12,16 @@
 namespace tear {
 namespace {
 
-// The stencil of order Order at a particle with home block `home_slot`, through the window of
-// that block (grid/block_window.h), with grid storage indices.
+// The stencil of order Order at particle i of x (group 0 of g), through the window of its
+// home block (grid/block_window.h), with grid storage indices.
 template <int Dim, int Order>
 struct HomeStencil {
-  HomeStencil(const SparseGrid<Dim>& g, const Vec<Dim>& x, int home_slot)
-      : window(g, home_slot), stencil(window, x) {
-    window.for_each_node(IVec<Dim>::Zero(), IVec<Dim>::Constant(BlockWindow<Dim>::kWidth - 1),
-                         [&](int wn, int n) { node_of[size_t(wn)] = n; });
+  using Window = BlockWindow<Dim, Order>;
+  HomeStencil(const SparseGrid<Dim>& g, const std::vector<Vec<Dim>>& x, uint32_t i)
+      : index(i),
+        window(g, {g.bins(0).particle_slot[i], 0, 1}, x, &index),
+        stencil(window, x[i]) {
+    window.for_each_node([&](int wn, int n) { node_of[size_t(wn)] = n; });
   }
   template <class Fn>
   void visit(Fn&& fn) const {
@@ -29,9 +31,10 @@ struct HomeStencil {
   void visit_laplacian(Fn&& fn) const {
     stencil.visit_laplacian([&](int wn, Real l) { fn(node_of[size_t(wn)], l); });
   }
-  BlockWindow<Dim> window;
+  uint32_t index;  // the window's one particle
+  Window window;
   WindowStencil<Dim, Order> stencil;
-  std::array<int, BlockWindow<Dim>::kSize> node_of;
+  std::array<int, Window::kSize> node_of;
 };
 
 template <int Dim>
@@ -56,7 +59,7 @@ void check_binning() {
   for (size_t i = 0; i < x.size(); ++i) {
     const Vec<Dim>& p = x[i];
     int visited = 0;
-    HomeStencil<Dim, 3>(g, p, b.particle_slot[i]).visit([&](int node, Real, const Vec<Dim>& rel) {
+    HomeStencil<Dim, 3>(g, x, uint32_t(i)).visit([&](int node, Real, const Vec<Dim>& rel) {
       ASSERT_GE(node, 0);
       const Vec<Dim> xi = g.node_position(node);
       EXPECT_TRUE((xi - p - rel).norm() < 1e-12);
@@ -117,8 +120,6 @@ TEST(SparseGrid, StencilWeightsReproduceConstantsLinesAndTheMlsInertia) {
   auto x = random_points<3>(100, 0.2, 0.8, 5);
   g.bin(x);
   for (size_t i = 0; i < x.size(); ++i) {
-    const Vec<3>& p = x[i];
-    const int home = g.bins(0).particle_slot[i];
     for (int order : {2, 3}) {
       double sw = 0, slap = 0;
       Vec<3> swx = Vec<3>::Zero();
@@ -127,9 +128,9 @@ TEST(SparseGrid, StencilWeightsReproduceConstantsLinesAndTheMlsInertia) {
         sw += w, swx += w * rel, swxx += w * rel * rel.transpose();
       };
       if (order == 2) {
-        HomeStencil<3, 2>(g, p, home).visit(add);
+        HomeStencil<3, 2>(g, x, uint32_t(i)).visit(add);
       } else {
-        const HomeStencil<3, 3> st(g, p, home);
+        const HomeStencil<3, 3> st(g, x, uint32_t(i));
         st.visit(add);
         st.visit_laplacian([&](int, Real lap_w) { slap += lap_w; });
         EXPECT_LT(std::abs(slap), 1e-9 / (0.05 * 0.05));  // Laplacian of a constant
@@ -172,7 +173,7 @@ void check_laplacian() {
       for (size_t i = 0; i < x.size(); ++i) {
         const Vec<Dim>& p = x[i];
         double lap = 0;
-        HomeStencil<Dim, 3>(g, p, g.bins(0).particle_slot[i]).visit_laplacian(
+        HomeStencil<Dim, 3>(g, x, uint32_t(i)).visit_laplacian(
             [&](int node, Real lap_w) { lap += lap_w * g.scalar[node]; });
         const double exact = field == 0 ? 10.0 : -25.0 * wave(p);
         worst = std::max(worst, std::abs(lap - exact));

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace tear {
 
@@ -14,6 +15,8 @@ namespace {
 
 // Cubic B-spline: the damage kernel (supplement Alg. 4, 7: "we must use cubic B-spline").
 constexpr int kDamageOrder = 3;
+template <int Dim>
+using Window = BlockWindow<Dim, kDamageOrder>;
 
 template <int Dim>
 using Groups = std::vector<Particles<Dim>>;
@@ -55,13 +58,10 @@ void damage_to_grid(const Groups<Dim>& groups, SparseGrid<Dim>* grid, const Bloc
         const auto& h = bins.home_blocks[size_t(b)];
         // In a window of the nodes the block's particles reach (grid/block_window.h): the
         // same additions in the same order as into the grid.
-        const BlockWindow<Dim> window(g, h.slot);
-        IVec<Dim> lo, hi;
-        window.template reach<kDamageOrder>(p.x, bins.order.data(), h.begin, h.end, &lo, &hi);
-        thread_local std::vector<Real> value(BlockWindow<Dim>::kSize),
-            weight(BlockWindow<Dim>::kSize);
-        window.load(g.scalar, value.data(), lo, hi);
-        window.load(g.scalar_weight, weight.data(), lo, hi);
+        const Window<Dim> window(g, h, p.x, bins.order.data());
+        thread_local std::vector<Real> value(Window<Dim>::kSize), weight(Window<Dim>::kSize);
+        window.load(g.scalar, value.data());
+        window.load(g.scalar_weight, weight.data());
         Real* const sum = value.data();
         Real* const sum_w = weight.data();
         for (uint32_t k = h.begin; k < h.end; ++k) {
@@ -73,8 +73,8 @@ void damage_to_grid(const Groups<Dim>& groups, SparseGrid<Dim>* grid, const Bloc
                 sum_w[i] += w;
               });
         }
-        window.store(sum, &g.scalar, lo, hi);
-        window.store(sum_w, &g.scalar_weight, lo, hi);
+        window.store(sum, &g.scalar);
+        window.store(sum_w, &g.scalar_weight);
       });
   const size_t n = g.num_active_nodes();
   domain.sum_halos({node_field(g.scalar.data(), n, 1), node_field(g.scalar_weight.data(), n, 1)});
@@ -103,13 +103,12 @@ Real damage_sweep(Groups<Dim>* groups, const SparseGrid<Dim>& grid,
       Real block_most = 0;
       bool damaged = false;
       const auto& h = bins.home_blocks[b];
-      // The grid field near the block in a window (grid/block_window.h).
-      const BlockWindow<Dim> window(grid, h.slot);
-      thread_local std::vector<Real> value(BlockWindow<Dim>::kSize);
+      // The grid field near the block in a window (grid/block_window.h), where it is not 0.
+      std::optional<Window<Dim>> window;
+      thread_local std::vector<Real> value(Window<Dim>::kSize);
       if (near[g][b]) {
-        IVec<Dim> lo, hi;
-        window.template reach<kDamageOrder>(p.x, bins.order.data(), h.begin, h.end, &lo, &hi);
-        window.load(grid.scalar, value.data(), lo, hi);
+        window.emplace(grid, h, p.x, bins.order.data());
+        window->load(grid.scalar, value.data());
       }
       const Real* const field = value.data();
       for (uint32_t k = h.begin; k < h.end; ++k) {
@@ -117,8 +116,8 @@ Real damage_sweep(Groups<Dim>* groups, const SparseGrid<Dim>& grid,
         const DamageParams& dp = params[p.material[q]];
         if (!dp.enabled) continue;
         Real lap = 0;
-        if (near[g][b]) {
-          WindowStencil<Dim, kDamageOrder>(window, p.x[q]).visit_laplacian(
+        if (window) {
+          WindowStencil<Dim, kDamageOrder>(*window, p.x[q]).visit_laplacian(
               [&](int i, Real lap_w) { lap += lap_w * field[i]; });
         }
         const Real old = p.damage[q];

@@ -1,8 +1,9 @@
 // A dense window over one home block's neighbourhood: the 2^Dim blocks that its particles'
 // stencils reach (the home block and its +1 neighbours, all active), as one array of
 // (2 kBlock)^Dim nodes with fixed strides. A transfer copies the nodes its particles reach
-// into such a window, runs their stencils there (rows of consecutive entries, no block lookup
-// per node), and copies sums back: P2G and G2P (mpm/) work this way.
+// into such a window, runs their stencils there (WindowStencil: rows of consecutive entries,
+// no block lookup per node), and copies sums back. Every particle-grid transfer works this way
+// (mpm/'s P2G, G2P and crack fields, damage/'s phase field).
 #pragma once
 
 #include "tear/grid/sparse_grid.h"
@@ -11,20 +12,28 @@
 
 namespace tear {
 
-template <int Dim>
+// The window of one home block for stencils of order `Order` (<= 3): it holds the box of
+// nodes that the block's particles reach, and copies node fields in and out over that box.
+template <int Dim, int Order>
 class BlockWindow {
  public:
   using Grid = SparseGrid<Dim>;
   static constexpr int kWidth = 2 * Grid::kBlock;  // nodes per axis: 16 in 2D, 8 in 3D
   static constexpr int kSize = Dim == 2 ? kWidth * kWidth : kWidth * kWidth * kWidth;
+  static_assert(Order <= 3, "stencils wider than cubic leave the window");
 
-  BlockWindow(const Grid& grid, int home_slot) : grid_(grid) {
-    grid.home_neighbourhood(home_slot, &ids_, &origin_);
+  // The window of home block h of a group whose particles are at x, in the group's binning
+  // order `order` (ParticleBins::order).
+  template <class Positions>
+  BlockWindow(const Grid& grid, const typename Grid::HomeBlock& h, const Positions& x,
+              const uint32_t* order)
+      : grid_(grid) {
+    grid.home_neighbourhood(h.slot, &ids_, &origin_);
+    reach(x, order, h.begin, h.end);
   }
 
-  // Window coordinates (0 .. kWidth - 1 per axis) of the first node of the B-spline stencil
-  // of order `Order` at position x (x must be in a particle of this home block).
-  template <int Order>
+  // Window coordinates (0 .. kWidth - 1 per axis) of the first node of the stencil at
+  // position x (x must be in a particle of this home block).
   IVec<Dim> stencil_base(const Vec<Dim>& x) const {
     IVec<Dim> b;
     const Real inv_dx = Real(1 / grid_.dx());
@@ -34,82 +43,78 @@ class BlockWindow {
     return b;
   }
 
-  // A box [lo, hi] of window coordinates that holds the stencils of order `Order` of the
-  // particles order[begin, end) at positions x (particles of this home block): the nodes that
-  // any particle of the home block can reach, or where the block has few particles, the
-  // nodes these reach (a pass over their positions).
-  template <int Order, class Positions>
-  void reach(const Positions& x, const uint32_t* order, uint32_t begin, uint32_t end,
-             IVec<Dim>* lo, IVec<Dim>* hi) const {
-    // Home-block particles have cubic base nodes 0 .. kBlock - 1, so every stencil of order
-    // <= 3 lies in 0 .. kBlock + 2.
-    static_assert(Order <= 3, "stencils wider than cubic leave the window");
-    constexpr int kReach = Grid::kBlock + std::min(Order, 2) + 1;
-    constexpr int kFull = Dim == 2 ? kReach * kReach : kReach * kReach * kReach;
-    if (end - begin >= uint32_t(kFull / 4)) {
-      lo->setZero(), hi->setConstant(kReach - 1);
-      return;
-    }
-    lo->setConstant(kWidth), hi->setConstant(-1);
-    for (uint32_t k = begin; k < end; ++k) {
-      const IVec<Dim> b = stencil_base<Order>(x[order[k]]);
-      *lo = lo->cwiseMin(b), *hi = hi->cwiseMax(b);
-    }
-    *hi = (*hi + IVec<Dim>::Constant(Order)).cwiseMin(IVec<Dim>::Constant(kWidth - 1));
-  }
-
-  // Calls fn(window index, node storage index) for every node of the box [lo, hi].
+  // Calls fn(window index, node storage index) for every node of the box.
   template <class Fn>
-  void for_each_node(const IVec<Dim>& lo, const IVec<Dim>& hi, Fn&& fn) const {
+  void for_each_node(Fn&& fn) const {
     constexpr int kB = Grid::kBlock, kL = Grid::kLogBlock, kNpb = Grid::kNodesPerBlock;
-    for (int z = (Dim == 3 ? lo[Dim - 1] : 0); z <= (Dim == 3 ? hi[Dim - 1] : 0); ++z)
-      for (int y = lo[1]; y <= hi[1]; ++y) {
+    for (int z = (Dim == 3 ? lo_[Dim - 1] : 0); z <= (Dim == 3 ? hi_[Dim - 1] : 0); ++z)
+      for (int y = lo_[1]; y <= hi_[1]; ++y) {
         const int bits = ((y >> kL) << 1) | (Dim == 3 ? (z >> kL) << 2 : 0);
         const int local = (y & (kB - 1)) << kL | (Dim == 3 ? (z & (kB - 1)) << (2 * kL) : 0);
         const int row = (Dim == 3 ? z * kWidth + y : y) * kWidth;
-        for (int x = lo[0]; x <= hi[0]; ++x)
+        for (int x = lo_[0]; x <= hi_[0]; ++x)
           fn(row + x, ids_[bits | (x >> kL)] * kNpb + local + (x & (kB - 1)));
       }
   }
 
-  // Copies a node field's values in the box [lo, hi] into a window array (indexed by window
-  // index), or a window array's back into the node field.
+  // Copies a node field's values in the box into a window array (indexed by window index),
+  // or a window array's back into the node field.
   template <class T>
-  void load(const std::vector<T>& field, T* window, const IVec<Dim>& lo,
-            const IVec<Dim>& hi) const {
-    for_each_node(lo, hi, [&](int wn, int n) { window[wn] = field[size_t(n)]; });
+  void load(const std::vector<T>& field, T* window) const {
+    for_each_node([&](int wn, int n) { window[wn] = field[size_t(n)]; });
   }
   template <class T>
-  void store(const T* window, std::vector<T>* field, const IVec<Dim>& lo,
-             const IVec<Dim>& hi) const {
-    for_each_node(lo, hi, [&](int wn, int n) { (*field)[size_t(n)] = window[wn]; });
+  void store(const T* window, std::vector<T>* field) const {
+    for_each_node([&](int wn, int n) { (*field)[size_t(n)] = window[wn]; });
   }
 
   const Grid& grid() const { return grid_; }
 
  private:
+  // The box [lo_, hi_]: the nodes any particle of the home block can reach, or where the
+  // block has few particles, the nodes these reach (a pass over their positions).
+  template <class Positions>
+  void reach(const Positions& x, const uint32_t* order, uint32_t begin, uint32_t end) {
+    // Home-block particles have cubic base nodes 0 .. kBlock - 1, so every stencil of order
+    // <= 3 lies in 0 .. kBlock + 2.
+    constexpr int kReach = Grid::kBlock + std::min(Order, 2) + 1;
+    constexpr int kFull = Dim == 2 ? kReach * kReach : kReach * kReach * kReach;
+    if (end - begin >= uint32_t(kFull / 4)) {
+      lo_.setZero(), hi_.setConstant(kReach - 1);
+      return;
+    }
+    lo_.setConstant(kWidth), hi_.setConstant(-1);
+    for (uint32_t k = begin; k < end; ++k) {
+      const IVec<Dim> b = stencil_base(x[order[k]]);
+      lo_ = lo_.cwiseMin(b), hi_ = hi_.cwiseMax(b);
+    }
+    hi_ = (hi_ + IVec<Dim>::Constant(Order)).cwiseMin(IVec<Dim>::Constant(kWidth - 1));
+  }
+
   const Grid& grid_;
   std::array<int, Grid::kColours> ids_;  // block id of each window block (index bit d: +1 on d)
   IVec<Dim> origin_;                     // padded node coordinates of window node 0
+  IVec<Dim> lo_, hi_;                    // the box of nodes the particles reach
 };
 
-// One particle's B-spline stencil in a BlockWindow: like Stencil, but visit(fn) calls
-// fn(window index, w, rel) and visit_laplacian(fn) fn(window index, Laplacian of N_i), in the
-// same node order (x fastest) and with the same arithmetic, so sums over a window equal sums
-// over the grid to the bit.
+// One particle's B-spline stencil in its home block's window, kept in separable form
+// (per-axis weights and offsets; nothing per node is stored). visit(fn) calls fn(window
+// index, w, rel) for every node with w = N_i(x_p) and rel = x_i - x_p (world units), formed on
+// the fly; visit_laplacian(fn) calls fn(window index, Laplacian of N_i at x_p). Node order: x
+// fastest, as the grid's storage order would give, so that sums do not depend on the window.
 template <int Dim, int Order>
 struct WindowStencil {
   static constexpr int kWidth = Order + 1;
-  static constexpr int kW = BlockWindow<Dim>::kWidth;
+  static constexpr int kW = BlockWindow<Dim, Order>::kWidth;
   Real w1[Dim][kWidth], rel1[Dim][kWidth], dd1[Dim][kWidth];  // dd1: N'' in world units
 
   // Inlined: called once a particle, out of line it costs 5 % of a transfer.
-  __attribute__((always_inline)) WindowStencil(const BlockWindow<Dim>& window,
+  __attribute__((always_inline)) WindowStencil(const BlockWindow<Dim, Order>& window,
                                                const Vec<Dim>& x) {
     const auto& grid = window.grid();
     const Real inv_dx = Real(1 / grid.dx());
     const Vec<Dim> xg = (x - grid.origin()) * inv_dx;
-    const IVec<Dim> b = window.template stencil_base<Order>(x);
+    const IVec<Dim> b = window.stencil_base(x);
     TEAR_ASSERT(b.minCoeff() >= 0 && b.maxCoeff() + Order < kW);  // x is of this home block
     first_ = Dim == 3 ? (b[2] * kW + b[1]) * kW + b[0] : b[1] * kW + b[0];
     for (int d = 0; d < Dim; ++d) {
@@ -125,6 +130,8 @@ struct WindowStencil {
   template <class Fn>
   void visit(Fn&& fn) const {
     for_rows([&](int row, int j, int k) {
+      // A fresh vector per node: updating one component of a shared one in place makes the
+      // packed loads inside fn wait on a scalar store (store-forwarding stall, 2x slower).
       if constexpr (Dim == 2) {
         for (int i = 0; i < kWidth; ++i)
           fn(row + i, w1[0][i] * w1[1][j], Vec<2>(rel1[0][i], rel1[1][j]));

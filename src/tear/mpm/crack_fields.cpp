@@ -27,17 +27,16 @@ void partition_crack_fields(const MpmSettings& settings, MpmState<Dim>* state) {
   // Every pass works home block by home block in a window of the nodes its particles reach
   // (grid/block_window.h): the same operations in the same order as on the grid.
   using HomeBlock = typename SparseGrid<Dim>::HomeBlock;
-  constexpr size_t kSize = BlockWindow<Dim>::kSize;
+  using Window = BlockWindow<Dim, kTransferOrder>;
+  constexpr size_t kSize = Window::kSize;
   // The damage on the grid, mass-weighted: d_i = sum_p w m d / sum_p w m.
   scatter_home_blocks(*state, [&](size_t g, const HomeBlock& h) {
     const Particles<Dim>& p = state->groups[g];
     const uint32_t* order = grid.bins(g).order.data();
-    const BlockWindow<Dim> window(grid, h.slot);
-    IVec<Dim> lo, hi;
-    window.template reach<kTransferOrder>(p.x, order, h.begin, h.end, &lo, &hi);
+    const Window window(grid, h, p.x, order);
     thread_local std::vector<Real> value(kSize), weight(kSize);
-    window.load(grid.scalar, value.data(), lo, hi);
-    window.load(grid.scalar_weight, weight.data(), lo, hi);
+    window.load(grid.scalar, value.data());
+    window.load(grid.scalar_weight, weight.data());
     for (uint32_t k = h.begin; k < h.end; ++k) {
       const uint32_t i = order[k];
       const Real md = p.mass[i] * p.damage[i];
@@ -47,8 +46,8 @@ void partition_crack_fields(const MpmSettings& settings, MpmState<Dim>* state) {
         weight[size_t(wn)] += w * p.mass[i];
       });
     }
-    window.store(value.data(), &grid.scalar, lo, hi);
-    window.store(weight.data(), &grid.scalar_weight, lo, hi);
+    window.store(value.data(), &grid.scalar);
+    window.store(weight.data(), &grid.scalar_weight);
   });
   parallel_for(grid.num_active_nodes(), [&](size_t node) {
     if (grid.scalar_weight[node] > 0) grid.scalar[node] /= grid.scalar_weight[node];
@@ -63,11 +62,9 @@ void partition_crack_fields(const MpmSettings& settings, MpmState<Dim>* state) {
     const ParticleBins<Dim>& bins = grid.bins(g);
     parallel_for(bins.home_blocks.size(), [&](size_t b) {
       const HomeBlock& h = bins.home_blocks[b];
-      const BlockWindow<Dim> window(grid, h.slot);
-      IVec<Dim> lo, hi;
-      window.template reach<kTransferOrder>(p.x, bins.order.data(), h.begin, h.end, &lo, &hi);
+      const Window window(grid, h, p.x, bins.order.data());
       thread_local std::vector<Real> value(kSize);
-      window.load(grid.scalar, value.data(), lo, hi);
+      window.load(grid.scalar, value.data());
       for (uint32_t k = h.begin; k < h.end; ++k) {
         const uint32_t i = bins.order[k];
         Vec<Dim> grad = Vec<Dim>::Zero();
@@ -86,14 +83,12 @@ void partition_crack_fields(const MpmSettings& settings, MpmState<Dim>* state) {
   scatter_home_blocks(*state, [&](size_t g, const HomeBlock& h) {
     const Particles<Dim>& p = state->groups[g];
     const uint32_t* order = grid.bins(g).order.data();
-    const BlockWindow<Dim> window(grid, h.slot);
-    IVec<Dim> lo, hi;
-    window.template reach<kTransferOrder>(p.x, order, h.begin, h.end, &lo, &hi);
+    const Window window(grid, h, p.x, order);
     thread_local std::vector<Real> steepest(kSize), most(kSize);
     thread_local std::vector<Vec<Dim>> normal(kSize);
-    window.load(grid.mass2, steepest.data(), lo, hi);
-    window.load(grid.scalar_weight, most.data(), lo, hi);
-    window.load(grid.crack_normal, normal.data(), lo, hi);
+    window.load(grid.mass2, steepest.data());
+    window.load(grid.scalar_weight, most.data());
+    window.load(grid.crack_normal, normal.data());
     for (uint32_t k = h.begin; k < h.end; ++k) {
       const uint32_t i = order[k];
       const Vec<Dim>& grad = p.damage_gradient[i];
@@ -105,9 +100,9 @@ void partition_crack_fields(const MpmSettings& settings, MpmState<Dim>* state) {
         most[n] = std::max(most[n], d);
       });
     }
-    window.store(steepest.data(), &grid.mass2, lo, hi);
-    window.store(most.data(), &grid.scalar_weight, lo, hi);
-    window.store(normal.data(), &grid.crack_normal, lo, hi);
+    window.store(steepest.data(), &grid.mass2);
+    window.store(most.data(), &grid.scalar_weight);
+    window.store(normal.data(), &grid.crack_normal);
   });
   parallel_for(grid.num_active_nodes(), [&](size_t node) {
     if (grid.scalar_weight[node] < split) grid.crack_normal[node].setZero();

@@ -30,11 +30,9 @@ void gather(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
     const ParticleBins<Dim>& bins = grid.bins(g);
     parallel_for(bins.home_blocks.size(), [&](size_t b) {
       const typename SparseGrid<Dim>::HomeBlock& h = bins.home_blocks[b];
-      const BlockWindow<Dim> window(grid, h.slot);
-      IVec<Dim> lo, hi;
-      window.template reach<kTransferOrder>(p.x, bins.order.data(), h.begin, h.end, &lo, &hi);
+      const BlockWindow<Dim, kTransferOrder> window(grid, h, p.x, bins.order.data());
       thread_local TransferWindow<Dim, kFlip, kSplit> win;
-      win.template load<false>(grid, window, lo, hi);
+      win.template load<false>(grid, window);
       constexpr int kSecond = kSplit ? 1 : 0;
       const Vec<Dim>* const velocity[2] = {win.field[0].v.data(), win.field[kSecond].v.data()};
       const Vec<Dim>* const velocity_old[2] = {win.field[0].v_old.data(),

@@ -36,11 +36,9 @@ void scatter(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
   scatter_home_blocks(*state, [&](size_t g, const typename SparseGrid<Dim>::HomeBlock& h) {
     const Particles<Dim>& p = state->groups[g];
     const uint32_t* order = grid.bins(g).order.data();
-    const BlockWindow<Dim> window(grid, h.slot);
-    IVec<Dim> lo, hi;
-    window.template reach<kTransferOrder>(p.x, order, h.begin, h.end, &lo, &hi);
+    const BlockWindow<Dim, kTransferOrder> window(grid, h, p.x, order);
     thread_local TransferWindow<Dim, kFlip, kSplit> win;
-    win.template load<true>(grid, window, lo, hi);
+    win.template load<true>(grid, window);
     constexpr int kSecond = kSplit ? 1 : 0;
     Real* const mass[2] = {win.field[0].m.data(), win.field[kSecond].m.data()};
     Vec<Dim>* const momentum[2] = {win.field[0].v.data(), win.field[kSecond].v.data()};
@@ -74,7 +72,7 @@ void scatter(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
         if constexpr (kFlip) momentum_old[f][wn] += w * mv;  // force-free momentum
       });
     }
-    win.store(&grid, window, lo, hi);
+    win.store(&grid, window);
   });
 }
 

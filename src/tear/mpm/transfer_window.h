@@ -5,6 +5,7 @@
 #pragma once
 
 #include "tear/grid/block_window.h"
+#include "tear/mpm/phases.h"
 
 #include <vector>
 
@@ -12,6 +13,7 @@ namespace tear {
 
 template <int Dim, bool kFlip, bool kSplit>
 struct TransferWindow {
+  using Window = BlockWindow<Dim, kTransferOrder>;
   static constexpr int kFields = kSplit ? 2 : 1;
   struct Field {
     std::vector<Real> m;
@@ -20,17 +22,16 @@ struct TransferWindow {
   std::vector<Vec<Dim>> normal;
 
   TransferWindow() {
-    constexpr size_t n = BlockWindow<Dim>::kSize;
+    constexpr size_t n = Window::kSize;
     for (Field& f : field) f.m.resize(n), f.v.resize(n), f.v_old.resize(kFlip ? n : 0);
     if (kSplit) normal.resize(n);
   }
 
-  // Copies the nodes of the box [lo, hi] of `window` in: velocities (and crack normals), and
-  // with kMass the masses too.
+  // Copies the nodes of the window's box in: velocities (and crack normals), and with kMass
+  // the masses too.
   template <bool kMass>
-  void load(const SparseGrid<Dim>& grid, const BlockWindow<Dim>& window, const IVec<Dim>& lo,
-            const IVec<Dim>& hi) {
-    window.for_each_node(lo, hi, [&](int wn, int n) {
+  void load(const SparseGrid<Dim>& grid, const Window& window) {
+    window.for_each_node([&](int wn, int n) {
       for (int f = 0; f < kFields; ++f) {
         Field& w = field[f];
         if constexpr (kMass) w.m[wn] = f == 0 ? grid.mass[n] : grid.mass2[n];
@@ -42,9 +43,8 @@ struct TransferWindow {
   }
 
   // Copies masses and velocities of the box back out.
-  void store(SparseGrid<Dim>* grid, const BlockWindow<Dim>& window, const IVec<Dim>& lo,
-             const IVec<Dim>& hi) const {
-    window.for_each_node(lo, hi, [&](int wn, int n) {
+  void store(SparseGrid<Dim>* grid, const Window& window) const {
+    window.for_each_node([&](int wn, int n) {
       for (int f = 0; f < kFields; ++f) {
         const Field& w = field[f];
         (f == 0 ? grid->mass[n] : grid->mass2[n]) = w.m[wn];
