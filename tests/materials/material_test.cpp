@@ -59,6 +59,29 @@ TEST(Materials, RotationInvariance) {
   expect_rotation_invariance<3>();
 }
 
+// kirchhoff_stress is P F^T for every model, closed form or not, over near-identity, large,
+// near-singular and inverted F (where the floored log's slope enters the closed form).
+template <int Dim>
+void expect_kirchhoff_is_p_times_f_transpose() {
+  std::mt19937_64 rng(21);
+  for (Model model : registered_models()) {
+    const MaterialParams m = make_material(model, 1000, 0.3, 1, 10, 5);
+    for (const Mat<Dim>& F : test_deformations<Dim>(rng)) {
+      const Mat<Dim> D = random_rotation<Dim>(rng);
+      for (Real g : {Real(1), Real(0.3)}) {
+        const Mat<Dim> tau = first_piola<Dim>(m, F, D, g) * F.transpose();
+        EXPECT_LT((kirchhoff_stress<Dim>(m, F, D, g) - tau).norm(), 1e-10 * (m.E + tau.norm()))
+            << model_name(model) << " Dim " << Dim << " g " << g << "\nF\n" << F;
+      }
+    }
+  }
+}
+
+TEST(Materials, KirchhoffStressIsPTimesFTranspose) {
+  expect_kirchhoff_is_p_times_f_transpose<2>();
+  expect_kirchhoff_is_p_times_f_transpose<3>();
+}
+
 template <int Dim>
 void expect_small_strain_matches_linear_elasticity(Model model) {
   const double E = 2500, nu = 0.27;

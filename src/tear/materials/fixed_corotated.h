@@ -12,6 +12,7 @@ struct FixedCorotated {
   static constexpr const char* kName = "fixed_corotated";
   static constexpr bool kHasFiberStiffness = false;
   static constexpr bool kDegradedByDamage = false;
+  static constexpr bool kClosedFormKirchhoff = false;
   static constexpr bool kAnalyticDifferential = true;
   static constexpr bool kPlastic = false;
 

@@ -54,6 +54,14 @@ Mat<Dim> first_piola(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>&
 }
 
 template <int Dim>
+Mat<Dim> kirchhoff_stress(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D, Real g) {
+  return visit_model(m.model, [&](auto M) -> Mat<Dim> {
+    if constexpr (decltype(M)::kClosedFormKirchhoff) return M.kirchhoff_stress(m, F, D, g);
+    else return M.first_piola(m, F, D, g) * F.transpose();
+  });
+}
+
+template <int Dim>
 Mat<Dim> stress_differential(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D,
                              const Mat<Dim>& dF, Real g) {
   return visit_model(m.model, [&](auto M) { return M.stress_differential(m, F, D, dF, g); });
@@ -63,6 +71,8 @@ template Real energy_density<2>(const MaterialParams&, const Mat<2>&, const Mat<
 template Real energy_density<3>(const MaterialParams&, const Mat<3>&, const Mat<3>&, Real);
 template Mat<2> first_piola<2>(const MaterialParams&, const Mat<2>&, const Mat<2>&, Real);
 template Mat<3> first_piola<3>(const MaterialParams&, const Mat<3>&, const Mat<3>&, Real);
+template Mat<2> kirchhoff_stress<2>(const MaterialParams&, const Mat<2>&, const Mat<2>&, Real);
+template Mat<3> kirchhoff_stress<3>(const MaterialParams&, const Mat<3>&, const Mat<3>&, Real);
 template Mat<2> stress_differential<2>(const MaterialParams&, const Mat<2>&, const Mat<2>&,
                                        const Mat<2>&, Real);
 template Mat<3> stress_differential<3>(const MaterialParams&, const Mat<3>&, const Mat<3>&,

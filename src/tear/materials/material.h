@@ -50,6 +50,13 @@ Real energy_density(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& 
 template <int Dim>
 Mat<Dim> first_piola(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D, Real g = 1);
 
+// Kirchhoff stress tau = P F^T with the same arguments: what MLS-MPM's P2G spreads (its
+// affine momentum term is -dt V0 D^-1 tau). Closed form where the model's traits say so
+// (registry.h, kClosedFormKirchhoff: cheaper than forming P), else first_piola times F^T.
+template <int Dim>
+Mat<Dim> kirchhoff_stress(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D,
+                          Real g = 1);
+
 // Stress differential dP = dP/dF : dF (the directional derivative of first_piola along dF,
 // at fixed D and g), for implicit integration. Analytic where the model's traits say so
 // (registry.h, kAnalyticDifferential), else central differences of P (helpers.h).

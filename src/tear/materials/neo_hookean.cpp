@@ -20,6 +20,16 @@ Mat<Dim> NeoHookean::first_piola(const MaterialParams& m, const Mat<Dim>& F, con
 }
 
 template <int Dim>
+Mat<Dim> NeoHookean::kirchhoff_stress(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>&,
+                                      Real) {
+  const Real J = F.determinant();
+  const Real L = safe_log(J);
+  Mat<Dim> tau = m.mu * (F * F.transpose());
+  tau.diagonal().array() += (m.lambda * L - m.mu) * safe_log_slope(J) * J;
+  return tau;
+}
+
+template <int Dim>
 Mat<Dim> NeoHookean::stress_differential(const MaterialParams& m, const Mat<Dim>& F,
                                          const Mat<Dim>&, const Mat<Dim>& dF, Real) {
   const Real J = F.determinant();
@@ -37,6 +47,10 @@ template Mat<2> NeoHookean::first_piola<2>(const MaterialParams&, const Mat<2>&,
                                            Real);
 template Mat<3> NeoHookean::first_piola<3>(const MaterialParams&, const Mat<3>&, const Mat<3>&,
                                            Real);
+template Mat<2> NeoHookean::kirchhoff_stress<2>(const MaterialParams&, const Mat<2>&,
+                                                const Mat<2>&, Real);
+template Mat<3> NeoHookean::kirchhoff_stress<3>(const MaterialParams&, const Mat<3>&,
+                                                const Mat<3>&, Real);
 template Mat<2> NeoHookean::stress_differential<2>(const MaterialParams&, const Mat<2>&,
                                                    const Mat<2>&, const Mat<2>&, Real);
 template Mat<3> NeoHookean::stress_differential<3>(const MaterialParams&, const Mat<3>&,

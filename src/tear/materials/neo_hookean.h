@@ -13,6 +13,7 @@ struct NeoHookean {
   static constexpr const char* kName = "neo_hookean";
   static constexpr bool kHasFiberStiffness = false;
   static constexpr bool kDegradedByDamage = false;
+  static constexpr bool kClosedFormKirchhoff = true;
   static constexpr bool kAnalyticDifferential = true;
   static constexpr bool kPlastic = false;
 
@@ -26,6 +27,12 @@ struct NeoHookean {
   template <int Dim>
   static Mat<Dim> first_piola(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D,
                               Real g);
+
+  // tau = P F^T = mu F F^T + (lambda L - mu) L'(J) J I (cof F F^T = J I): no cofactor and no
+  // matrix product, only F F^T (what P2G needs when nothing else uses P).
+  template <int Dim>
+  static Mat<Dim> kirchhoff_stress(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D,
+                                   Real g);
 
   // With c = (lambda L - mu) L' and dJ = cof F : dF:
   // dP = mu dF + (lambda L'^2 + (lambda L - mu) L'') dJ cof F + c d(cof F).

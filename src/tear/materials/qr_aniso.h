@@ -18,6 +18,7 @@ struct QrAniso {
   static constexpr bool kDegradedByDamage = true;   // uses g
   // dP is numerical until the analytic QR derivative (EQUATIONS.md §2 "Implicit integration
   // needs dP/dF", supplement §3.3-3.4) replaces it.
+  static constexpr bool kClosedFormKirchhoff = false;
   static constexpr bool kAnalyticDifferential = false;
   static constexpr bool kPlastic = false;
 

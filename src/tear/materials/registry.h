@@ -18,6 +18,8 @@ namespace tear {
 //   kHasFiberStiffness      uses kx, ky (the scene refuses a nonzero fiber_scale otherwise)
 //   kDegradedByDamage       uses g (the scene refuses a damage block otherwise)
 //   kAnalyticDifferential   stress_differential is closed-form (else numerical, helpers.h)
+//   kClosedFormKirchhoff    has kirchhoff_stress<Dim>(m, F, D, g) = P F^T in closed form
+//                           (else material.cpp forms first_piola times F^T)
 //   kPlastic                has a plastic return map. None has yet; a plastic model adds
 //                             template <int Dim>
 //                             static void return_map(const MaterialParams&, Mat<Dim>* F_elastic,
@@ -73,7 +75,8 @@ auto visit_model(Model model, Fn&& fn) {
 struct ModelTraits {
   Model model;
   const char* name;
-  bool has_fiber_stiffness, degraded_by_damage, analytic_differential, plastic;
+  bool has_fiber_stiffness, degraded_by_damage, analytic_differential, closed_form_kirchhoff,
+      plastic;
 };
 
 namespace registry_detail {
@@ -81,7 +84,8 @@ namespace registry_detail {
 template <class... Ms>
 constexpr std::array<ModelTraits, sizeof...(Ms)> traits_of(ModelList<Ms...>) {
   return {{ModelTraits{Ms::kModel, Ms::kName, Ms::kHasFiberStiffness, Ms::kDegradedByDamage,
-                       Ms::kAnalyticDifferential, Ms::kPlastic}...}};
+                       Ms::kAnalyticDifferential, Ms::kClosedFormKirchhoff,
+                       Ms::kPlastic}...}};
 }
 
 }  // namespace registry_detail

@@ -14,6 +14,7 @@ struct StvkHencky {
   static constexpr bool kHasFiberStiffness = false;
   static constexpr bool kDegradedByDamage = false;
   // Numerical until the SVD-based analytic differential is written.
+  static constexpr bool kClosedFormKirchhoff = false;
   static constexpr bool kAnalyticDifferential = false;
   // Its return map (von Mises, Drucker-Prager on log Sigma) goes here when plasticity lands.
   static constexpr bool kPlastic = false;

@@ -1,26 +1,32 @@
 // The P2G phase: mass and momentum to the grid, with the stress as an affine momentum term.
 #include "tear/damage/driving_force.h"
 #include "tear/exec/parallel.h"
+#include "tear/materials/registry.h"
 #include "tear/mpm/phases.h"
 #include "tear/mpm/transfer_window.h"
 
 namespace tear {
 
 template <int Dim>
-Mat<Dim> p2g_stress(const MpmSettings& settings, const Particles<Dim>& p, size_t i) {
+Mat<Dim> p2g_kirchhoff(const MpmSettings& settings, const Particles<Dim>& p, size_t i, Real scale) {
   const MaterialParams& m = settings.materials[p.material[i]];
+  const Mat<Dim>& F = p.F[i];
+  // (scale P) F^T as Eigen evaluates scale (P F^T): the scale goes in first.
+  auto scaled = [&](const Mat<Dim>& P) -> Mat<Dim> { return scale * (P * F.transpose()); };
   // Without the constitutive phase (no damage), the stress is made here: P2G is its only use.
-  if (!has_stress_phase(settings)) return first_piola<Dim>(m, p.F[i], p.fiber[i]);
+  if (!has_stress_phase(settings)) {
+    if (model_traits(m.model).closed_form_kirchhoff)
+      return scale * kirchhoff_stress<Dim>(m, F, p.fiber[i]);
+    return scaled(first_piola<Dim>(m, F, p.fiber[i]));
+  }
   const DamageParams& dp = settings.material_damage[p.material[i]];
-  if (!dp.enabled) return p.stress[i];  // g = 1
+  if (!dp.enabled) return scaled(p.stress[i]);  // g = 1
   // Damageable particles (qr_aniso only: the scene refuses damage on other models): the
   // undegraded stress degraded in closed form, without a second QR, where det F > 0.
-  if (p.J[i] > 0) {
-    if (p.damage[i] == 0) return p.stress[i];
-    return degrade_qr_stress<Dim>(m, p.F[i], p.stress[i],
-                                  degradation(p.damage[i], Real(dp.residual)));
-  }
-  return first_piola<Dim>(m, p.F[i], p.fiber[i], degradation(p.damage[i], Real(dp.residual)));
+  const Real g = degradation(p.damage[i], Real(dp.residual));
+  if (p.J[i] > 0)
+    return scaled(p.damage[i] == 0 ? p.stress[i] : degrade_qr_stress<Dim>(m, F, p.stress[i], g));
+  return scaled(first_piola<Dim>(m, F, p.fiber[i], g));
 }
 
 namespace {
@@ -47,9 +53,8 @@ void scatter(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
     const Vec<Dim>* const normal = win.normal.data();
     for (uint32_t k = h.begin; k < h.end; ++k) {
       const uint32_t i = order[k];
-      const Mat<Dim> P = p2g_stress(settings, p, i);
       // MLS-MPM: the stress enters as an affine momentum term (Hu et al. 2018, Eq. 29).
-      Mat<Dim> affine = (-dt * p.vol0[i] * inv_d) * (P * p.F[i].transpose());
+      Mat<Dim> affine = p2g_kirchhoff(settings, p, i, -dt * p.vol0[i] * inv_d);
       const Real m = p.mass[i];
       // Column by column: the product's columns are stored in pieces (two rows packed, one
       // alone), and adding whole matrices reads them at other offsets (store-forwarding stall).
@@ -95,8 +100,8 @@ void p2g(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
     scatter_split<Dim, false>(settings, state, dt);
 }
 
-template Mat<2> p2g_stress<2>(const MpmSettings&, const Particles<2>&, size_t);
-template Mat<3> p2g_stress<3>(const MpmSettings&, const Particles<3>&, size_t);
+template Mat<2> p2g_kirchhoff<2>(const MpmSettings&, const Particles<2>&, size_t, Real);
+template Mat<3> p2g_kirchhoff<3>(const MpmSettings&, const Particles<3>&, size_t, Real);
 template void p2g<2>(const MpmSettings&, MpmState<2>*, Real);
 template void p2g<3>(const MpmSettings&, MpmState<3>*, Real);
 

@@ -82,9 +82,10 @@ void grid_update(const MpmSettings& settings, MpmState<Dim>* state, Real dt);
 template <int Dim>
 void g2p(const MpmSettings& settings, MpmState<Dim>* state, Real dt);
 
-// The degraded first Piola stress of particle i of `p` that P2G spreads (from this step's
-// undegraded stress and the particle's damage).
+// scale times the Kirchhoff stress tau = P F^T of particle i of `p` that P2G spreads, P
+// degraded by the particle's damage (from this step's undegraded stress, or made here without
+// a damage phase: in closed form where the model has one, materials/registry.h).
 template <int Dim>
-Mat<Dim> p2g_stress(const MpmSettings& settings, const Particles<Dim>& p, size_t i);
+Mat<Dim> p2g_kirchhoff(const MpmSettings& settings, const Particles<Dim>& p, size_t i, Real scale);
 
 }  // namespace tear

@@ -28,31 +28,41 @@ struct TransferWindow {
   }
 
   // Copies the nodes of the window's box in: velocities (and crack normals), and with kMass
-  // the masses too.
+  // the masses too. Raw pointers taken once: through the vectors, every node's copy reloads
+  // their data pointers (the stores could alias them as far as the compiler knows).
   template <bool kMass>
   void load(const SparseGrid<Dim>& grid, const Window& window) {
-    window.for_each_node([&](int wn, int n) {
-      for (int f = 0; f < kFields; ++f) {
-        Field& w = field[f];
-        if constexpr (kMass) w.m[wn] = f == 0 ? grid.mass[n] : grid.mass2[n];
-        w.v[wn] = f == 0 ? grid.velocity[n] : grid.velocity2[n];
-        if constexpr (kFlip) w.v_old[wn] = f == 0 ? grid.velocity_old[n] : grid.velocity_old2[n];
-      }
-      if constexpr (kSplit) normal[size_t(wn)] = grid.crack_normal[n];
-    });
+    for (int f = 0; f < kFields; ++f) {
+      Real* const m = field[f].m.data();
+      Vec<Dim>* const v = field[f].v.data();
+      Vec<Dim>* const v_old = field[f].v_old.data();
+      const Real* const gm = (f == 0 ? grid.mass : grid.mass2).data();
+      const Vec<Dim>* const gv = (f == 0 ? grid.velocity : grid.velocity2).data();
+      const Vec<Dim>* const gv_old = (f == 0 ? grid.velocity_old : grid.velocity_old2).data();
+      window.for_each_node([&](int wn, int n) {
+        if constexpr (kMass) m[wn] = gm[n];
+        v[wn] = gv[n];
+        if constexpr (kFlip) v_old[wn] = gv_old[n];
+      });
+    }
+    if constexpr (kSplit) window.load(grid.crack_normal, normal.data());
   }
 
   // Copies masses and velocities of the box back out.
   void store(SparseGrid<Dim>* grid, const Window& window) const {
-    window.for_each_node([&](int wn, int n) {
-      for (int f = 0; f < kFields; ++f) {
-        const Field& w = field[f];
-        (f == 0 ? grid->mass[n] : grid->mass2[n]) = w.m[wn];
-        (f == 0 ? grid->velocity[n] : grid->velocity2[n]) = w.v[wn];
-        if constexpr (kFlip)
-          (f == 0 ? grid->velocity_old[n] : grid->velocity_old2[n]) = w.v_old[wn];
-      }
-    });
+    for (int f = 0; f < kFields; ++f) {
+      const Real* const m = field[f].m.data();
+      const Vec<Dim>* const v = field[f].v.data();
+      const Vec<Dim>* const v_old = field[f].v_old.data();
+      Real* const gm = (f == 0 ? grid->mass : grid->mass2).data();
+      Vec<Dim>* const gv = (f == 0 ? grid->velocity : grid->velocity2).data();
+      Vec<Dim>* const gv_old = (f == 0 ? grid->velocity_old : grid->velocity_old2).data();
+      window.for_each_node([&](int wn, int n) {
+        gm[n] = m[wn];
+        gv[n] = v[wn];
+        if constexpr (kFlip) gv_old[n] = v_old[wn];
+      });
+    }
   }
 };
 
