@@ -39,11 +39,12 @@ BlockFlags damaged_blocks(const Groups<Dim>& groups, const SparseGrid<Dim>& grid
   return hot;
 }
 
-// The particles' damage to the grid, d_i = sum_p w_ip d_p / sum_p w_ip (cubic B-spline), from
+// The particles' damage to the grid, d_i = sum_p w_ip d_p / sum_p w_ip (B-spline of order
+// `Order`: cubic for the damage update, kDamageOrder), from
 // the particles of the home blocks flagged in `near` (coloured, so without races, in a fixed
 // order). Outside those blocks' stencils the field is 0; so is it where no damaged particle
 // is near (see SparseGrid::near_hot_blocks).
-template <int Dim>
+template <int Dim, int Order = kDamageOrder>
 void damage_to_grid(const Groups<Dim>& groups, SparseGrid<Dim>* grid, const BlockFlags& near,
                     Domain& domain) {
   SparseGrid<Dim>& g = *grid;
@@ -58,8 +59,9 @@ void damage_to_grid(const Groups<Dim>& groups, SparseGrid<Dim>* grid, const Bloc
         const auto& h = bins.home_blocks[size_t(b)];
         // In a window of the nodes the block's particles reach (grid/block_window.h): the
         // same additions in the same order as into the grid.
-        const Window<Dim> window(g, h, p.x, bins.order.data());
-        thread_local std::vector<Real> value(Window<Dim>::kSize), weight(Window<Dim>::kSize);
+        const BlockWindow<Dim, Order> window(g, h, p.x, bins.order.data());
+        constexpr size_t kSize = BlockWindow<Dim, Order>::kSize;
+        thread_local std::vector<Real> value(kSize), weight(kSize);
         window.load(g.scalar, value.data());
         window.load(g.scalar_weight, weight.data());
         Real* const sum = value.data();
@@ -67,7 +69,7 @@ void damage_to_grid(const Groups<Dim>& groups, SparseGrid<Dim>* grid, const Bloc
         for (uint32_t k = h.begin; k < h.end; ++k) {
           const uint32_t q = bins.order[k];
           const Real d = p.damage[q];
-          WindowStencil<Dim, kDamageOrder>(window, p.x[q]).visit(
+          WindowStencil<Dim, Order>(window, p.x[q]).visit(
               [&](int i, Real w, const Vec<Dim>&) {
                 sum[i] += w * d;
                 sum_w[i] += w;
@@ -169,6 +171,14 @@ bool update_driving_force(std::vector<Particles<Dim>>* groups,
           any;
   }
   return any;
+}
+
+template <int Order, int Dim>
+void damage_on_grid(const std::vector<Particles<Dim>>& groups, SparseGrid<Dim>* grid,
+                    Domain& domain) {
+  static_assert(Order == 2 || Order == 3, "near_hot_blocks' reach is the cubic kernel's");
+  damage_to_grid<Dim, Order>(groups, grid, grid->near_hot_blocks(damaged_blocks(groups, *grid)),
+                             domain);
 }
 
 template <int Dim>
@@ -279,6 +289,8 @@ double damage_dt_limit(const std::vector<Particles<Dim>>& groups, const DamageSe
   template void update_damage<D>(std::vector<Particles<D>>*, SparseGrid<D>*,                      \
                                  const DamageSettings&, const std::vector<DamageParams>&, double, \
                                  DamageSolveStats*, Domain&);                                     \
+  template void damage_on_grid<2, D>(const std::vector<Particles<D>>&, SparseGrid<D>*, Domain&);\
+  template void damage_on_grid<3, D>(const std::vector<Particles<D>>&, SparseGrid<D>*, Domain&);\
   template bool update_driving_force<D>(std::vector<Particles<D>>*,                               \
                                         const std::vector<DamageParams>&, double);                \
   template void damage_explicit<D>(std::vector<Particles<D>>*, SparseGrid<D>*,                    \

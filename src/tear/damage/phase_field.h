@@ -47,6 +47,14 @@ void damage_implicit(std::vector<Particles<Dim>>* groups, SparseGrid<Dim>* grid,
                      const DamageSettings& settings, const std::vector<DamageParams>& params,
                      Real dt, DamageSolveStats* stats, Domain& domain);
 
+// The particles' damage on the grid, grid->scalar: d_i = sum_p w_ip d_p / sum_p w_ip with the
+// B-spline of order `Order` (3: the field whose Laplacian the damage update takes; 2: the
+// sharper one the crack-field phase takes gradients of); 0 where no damaged particle is near.
+// Overwrites grid->scalar_weight (the weights). Halos are summed and copied through `domain`.
+template <int Order, int Dim>
+void damage_on_grid(const std::vector<Particles<Dim>>& groups, SparseGrid<Dim>* grid,
+                    Domain& domain);
+
 // Driving forces above this count as this in the explicit step limit (the overshoot they could
 // cause is below 1 / (1 + kDriveCap)).
 constexpr double kDriveCap = 99;

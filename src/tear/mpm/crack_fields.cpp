@@ -3,6 +3,7 @@
 // method"). With one velocity per node, a node within reach of both faces of a crack moves
 // them together, so particles beside a crack whose faces slide are sheared until they crack
 // too and the band widens. Here such a node holds one velocity field per side.
+#include "tear/damage/phase_field.h"
 #include "tear/exec/parallel.h"
 #include "tear/grid/block_window.h"
 #include "tear/mpm/phases.h"
@@ -10,7 +11,7 @@
 namespace tear {
 
 template <int Dim>
-void partition_crack_fields(const MpmSettings& settings, MpmState<Dim>* state) {
+void partition_crack_fields(const MpmSettings& settings, MpmState<Dim>* state, Domain& domain) {
   SparseGrid<Dim>& grid = state->grid;
   // Until some particle reaches split_damage no node is split (damage never decreases): the
   // grid keeps no second field and P2G, the grid update and G2P take their one-field paths.
@@ -22,37 +23,17 @@ void partition_crack_fields(const MpmSettings& settings, MpmState<Dim>* state) {
     grid.clear_split_fields();
     return;
   }
-  grid.zero_scalar_fields();
   grid.zero_split_fields();
+  // The damage on the grid (as the damage update makes it, with its halos, but with the
+  // transfer's quadratic kernel: the cubic one's wider reach blurs the gradient's sign beside
+  // a crack, bands half a spacing wider); scalar_weight is reused below.
+  damage_on_grid<kTransferOrder>(state->groups, &grid, domain);
+  parallel_for(grid.num_active_nodes(), [&](size_t node) { grid.scalar_weight[node] = 0; });
   // Every pass works home block by home block in a window of the nodes its particles reach
   // (grid/block_window.h): the same operations in the same order as on the grid.
   using HomeBlock = typename SparseGrid<Dim>::HomeBlock;
   using Window = BlockWindow<Dim, kTransferOrder>;
   constexpr size_t kSize = Window::kSize;
-  // The damage on the grid, mass-weighted: d_i = sum_p w m d / sum_p w m.
-  scatter_home_blocks(*state, [&](size_t g, const HomeBlock& h) {
-    const Particles<Dim>& p = state->groups[g];
-    const uint32_t* order = grid.bins(g).order.data();
-    const Window window(grid, h, p.x, order);
-    thread_local std::vector<Real> value(kSize), weight(kSize);
-    window.load(grid.scalar, value.data());
-    window.load(grid.scalar_weight, weight.data());
-    for (uint32_t k = h.begin; k < h.end; ++k) {
-      const uint32_t i = order[k];
-      const Real md = p.mass[i] * p.damage[i];
-      WindowStencil<Dim, kTransferOrder>(window, p.x[i]).visit([&](int wn, Real w,
-                                                                   const Vec<Dim>&) {
-        value[size_t(wn)] += w * md;
-        weight[size_t(wn)] += w * p.mass[i];
-      });
-    }
-    window.store(value.data(), &grid.scalar);
-    window.store(weight.data(), &grid.scalar_weight);
-  });
-  parallel_for(grid.num_active_nodes(), [&](size_t node) {
-    if (grid.scalar_weight[node] > 0) grid.scalar[node] /= grid.scalar_weight[node];
-    grid.scalar_weight[node] = 0;
-  });
   // Each particle's damage gradient, the MLS estimate grad d = D^-1 sum_i w d_i (x_i - x_p)
   // (as APIC estimates the velocity gradient). Beside a crack it points towards the crack,
   // from either side, so its sign against a node's normal tells the sides apart.
@@ -110,7 +91,7 @@ void partition_crack_fields(const MpmSettings& settings, MpmState<Dim>* state) {
   });
 }
 
-template void partition_crack_fields<2>(const MpmSettings&, MpmState<2>*);
-template void partition_crack_fields<3>(const MpmSettings&, MpmState<3>*);
+template void partition_crack_fields<2>(const MpmSettings&, MpmState<2>*, Domain&);
+template void partition_crack_fields<3>(const MpmSettings&, MpmState<3>*, Domain&);
 
 }  // namespace tear

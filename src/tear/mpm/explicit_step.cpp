@@ -53,7 +53,7 @@ void explicit_step(const MpmSettings& settings, MpmState<Dim>* state, double dt,
   }
   if (settings.damage.split_fields) {
     PhaseTimer timer(&t.crack_fields);
-    partition_crack_fields(settings, state);
+    partition_crack_fields(settings, state, domain);
   }
   {
     PhaseTimer timer(&t.p2g);

@@ -3,6 +3,7 @@
 // the damage phase is damage/phase_field.h's update_damage.
 #pragma once
 
+#include "tear/exec/domain.h"
 #include "tear/exec/parallel.h"
 #include "tear/mpm/settings.h"
 #include "tear/mpm/state.h"
@@ -33,9 +34,10 @@ inline bool has_stress_phase(const MpmSettings& settings) {
 // Crack fields (settings.damage.split_fields): every particle's damage gradient, and at each
 // grid node in reach of a particle whose damage is at least split_damage a crack normal, the
 // steepest gradient among the particles in reach (mpm/crack_fields.cpp). P2G and G2P put a
-// particle whose gradient opposes a node's normal into the node's second velocity field.
+// particle whose gradient opposes a node's normal into the node's second velocity field. The
+// grid damage is the damage update's (damage_on_grid), halos through `domain`.
 template <int Dim>
-void partition_crack_fields(const MpmSettings& settings, MpmState<Dim>* state);
+void partition_crack_fields(const MpmSettings& settings, MpmState<Dim>* state, Domain& domain);
 
 // Calls fn(group g, home block h) for every home block of every group (grid.bins(g)), one
 // colour at a time: nodes in reach of the particles of the blocks of a colour are written by
