@@ -174,11 +174,12 @@ bool update_driving_force(std::vector<Particles<Dim>>* groups,
 }
 
 template <int Order, int Dim>
-void damage_on_grid(const std::vector<Particles<Dim>>& groups, SparseGrid<Dim>* grid,
-                    Domain& domain) {
+BlockFlags damage_on_grid(const std::vector<Particles<Dim>>& groups, SparseGrid<Dim>* grid,
+                          Domain& domain) {
   static_assert(Order == 2 || Order == 3, "near_hot_blocks' reach is the cubic kernel's");
-  damage_to_grid<Dim, Order>(groups, grid, grid->near_hot_blocks(damaged_blocks(groups, *grid)),
-                             domain);
+  BlockFlags near = grid->near_hot_blocks(damaged_blocks(groups, *grid));
+  damage_to_grid<Dim, Order>(groups, grid, near, domain);
+  return near;
 }
 
 template <int Dim>
@@ -289,8 +290,10 @@ double damage_dt_limit(const std::vector<Particles<Dim>>& groups, const DamageSe
   template void update_damage<D>(std::vector<Particles<D>>*, SparseGrid<D>*,                      \
                                  const DamageSettings&, const std::vector<DamageParams>&, double, \
                                  DamageSolveStats*, Domain&);                                     \
-  template void damage_on_grid<2, D>(const std::vector<Particles<D>>&, SparseGrid<D>*, Domain&);\
-  template void damage_on_grid<3, D>(const std::vector<Particles<D>>&, SparseGrid<D>*, Domain&);\
+  template BlockFlags damage_on_grid<2, D>(const std::vector<Particles<D>>&, SparseGrid<D>*,     \
+                                           Domain&);                                             \
+  template BlockFlags damage_on_grid<3, D>(const std::vector<Particles<D>>&, SparseGrid<D>*,     \
+                                           Domain&);                                             \
   template bool update_driving_force<D>(std::vector<Particles<D>>*,                               \
                                         const std::vector<DamageParams>&, double);                \
   template void damage_explicit<D>(std::vector<Particles<D>>*, SparseGrid<D>*,                    \

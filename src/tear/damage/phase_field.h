@@ -51,8 +51,10 @@ void damage_implicit(std::vector<Particles<Dim>>* groups, SparseGrid<Dim>* grid,
 // B-spline of order `Order` (3: the field whose Laplacian the damage update takes; 2: the
 // sharper one the crack-field phase takes gradients of); 0 where no damaged particle is near.
 // Overwrites grid->scalar_weight (the weights). Halos are summed and copied through `domain`.
+// Returns, per group and home block (grid->bins(g).home_blocks), whether the block is near
+// damage: elsewhere every particle is undamaged and its stencil sees only d_i = 0.
 template <int Order, int Dim>
-void damage_on_grid(const std::vector<Particles<Dim>>& groups, SparseGrid<Dim>* grid,
+std::vector<std::vector<char>> damage_on_grid(const std::vector<Particles<Dim>>& groups, SparseGrid<Dim>* grid,
                     Domain& domain);
 
 // Driving forces above this count as this in the explicit step limit (the overshoot they could
