@@ -189,8 +189,7 @@ void damage_explicit(std::vector<Particles<Dim>>* groups, SparseGrid<Dim>* grid,
   // beats the geometric resistance Dc = d - l0^2 Lap d (which also lets a crack widen to its
   // regularised width l0), capped at 1. While nothing nearby is damaged the field and its
   // Laplacian are zero: particles outside the neighbourhood of damaged ones skip the transfer.
-  const BlockFlags near = grid->near_hot_blocks(damaged_blocks(*groups, *grid));
-  damage_to_grid(*groups, grid, near, domain);
+  const BlockFlags near = damage_on_grid<kDamageOrder>(*groups, grid, domain);
   BlockFlags all = near;
   for (auto& flags : all) std::fill(flags.begin(), flags.end(), 1);
   damage_sweep(

@@ -54,8 +54,8 @@ void damage_implicit(std::vector<Particles<Dim>>* groups, SparseGrid<Dim>* grid,
 // Returns, per group and home block (grid->bins(g).home_blocks), whether the block is near
 // damage: elsewhere every particle is undamaged and its stencil sees only d_i = 0.
 template <int Order, int Dim>
-std::vector<std::vector<char>> damage_on_grid(const std::vector<Particles<Dim>>& groups, SparseGrid<Dim>* grid,
-                    Domain& domain);
+std::vector<std::vector<char>> damage_on_grid(const std::vector<Particles<Dim>>& groups,
+                                              SparseGrid<Dim>* grid, Domain& domain);
 
 // Driving forces above this count as this in the explicit step limit (the overshoot they could
 // cause is below 1 / (1 + kDriveCap)).

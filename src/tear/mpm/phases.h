@@ -52,16 +52,6 @@ void scatter_home_blocks(const MpmState<Dim>& state, Fn&& fn) {
       [&](size_t g, int b) { fn(g, grid.bins(g).home_blocks[size_t(b)]); });
 }
 
-// Calls fn(group g, particle index i) for every particle, as scatter_home_blocks orders them
-// (particles of a home block in ascending order).
-template <int Dim, class Fn>
-void scatter_particles(const MpmState<Dim>& state, Fn&& fn) {
-  scatter_home_blocks(state, [&](size_t g, const typename SparseGrid<Dim>::HomeBlock& h) {
-    const std::vector<uint32_t>& order = state.grid.bins(g).order;
-    for (uint32_t k = h.begin; k < h.end; ++k) fn(g, order[k]);
-  });
-}
-
 // Whether a particle with damage gradient `gradient` belongs to the second velocity field of
 // a node with crack normal `normal` (never where the node is not split: its normal is zero).
 template <int Dim>
