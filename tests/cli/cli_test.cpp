@@ -256,6 +256,15 @@ TEST_F(Cli, CheckPrintsTheCrackOnsetStretch) {
   EXPECT_GT(across, 1.0) << out_;
   EXPECT_LT(across, 1.2) << out_;  // sigma_c 3 against moduli ~40: a few percent
   EXPECT_GT(along, across) << out_;
+  EXPECT_EQ(out_.find("surface_anisotropy"), std::string::npos) << out_;  // the paper's term
+  // An anisotropic crack surface is said, with its weights.
+  json aniso = tearing_scene();
+  aniso["damage"]["solver"] = "explicit";
+  aniso["materials"]["m"]["damage"]["surface_anisotropy"] = 30;
+  ASSERT_EQ(tear("check " + write_scene(aniso)), 0) << err_;
+  EXPECT_NE(out_.find("alpha [-1, 0], surface_anisotropy [30, 0]; cracks start"),
+            std::string::npos)
+      << out_;
 }
 
 TEST_F(Cli, ImplicitDamageRecordsSolverFiguresAndResumesBitIdentically) {

@@ -265,6 +265,43 @@ TEST(DrivingForce, RotatingTheBodyRotatesTheStructuralTensor) {
   }
 }
 
+// The crack surface tensor M = I + sum_k beta_k w_k w_k^T, w_k = F a_k / |F a_k|: eigenvalue
+// 1 + beta along the deformed fiber and 1 across it (one fiber), independent of the fiber's
+// stretch, turning with the body (M(Q F) = Q M(F) Q^T), and both fibers in 3D; a fiber crushed
+// to zero length adds nothing.
+template <int Dim>
+void check_crack_surface_tensor() {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-0.4, 0.4);
+  for (int trial = 0; trial < 20; ++trial) {
+    Mat<Dim> F = Mat<Dim>::Identity(), G;
+    for (int a = 0; a < Dim; ++a)
+      for (int b = 0; b < Dim; ++b) F(a, b) += Real(u(rng)), G(a, b) = Real(u(rng));
+    const Mat<Dim> Q = Eigen::HouseholderQR<Mat<Dim>>(G).householderQ();  // orthogonal
+    Mat<Dim> D = Eigen::HouseholderQR<Mat<Dim>>(F + G).householderQ();
+    const double one[2] = {3, 0}, two[2] = {3, 0.5};
+    const Mat<Dim> M = crack_surface_tensor<Dim>(F, D, one);
+    const Vec<Dim> w = (F * D.col(0)).normalized();
+    EXPECT_LT((M - M.transpose()).norm(), 1e-14);
+    EXPECT_LT((M * w - 4 * w).norm(), 1e-13);
+    Vec<Dim> across = Vec<Dim>::Unit(0) - w * w[0];
+    across.normalize();
+    EXPECT_LT((M * across - across).norm(), 1e-13);
+    EXPECT_LT((crack_surface_tensor<Dim>(Real(2.5) * F, D, one) - M).norm(), 1e-13);
+    EXPECT_LT((crack_surface_tensor<Dim>(Q * F, D, one) - Q * M * Q.transpose()).norm(), 1e-13);
+    const Vec<Dim> w2 = (F * D.col(1)).normalized();
+    const Mat<Dim> M2 = crack_surface_tensor<Dim>(F, D, two);
+    EXPECT_LT((M2 - M - Real(0.5) * w2 * w2.transpose()).norm(), 1e-13);
+  }
+  Mat<Dim> crushed = Mat<Dim>::Identity();
+  crushed(0, 0) = 0;
+  const double beta[2] = {5, 0};
+  EXPECT_EQ(crack_surface_tensor<Dim>(crushed, Mat<Dim>::Identity(), beta), Mat<Dim>::Identity());
+}
+
+TEST(CrackSurface, TensorFollowsTheDeformedFibers2D) { check_crack_surface_tensor<2>(); }
+TEST(CrackSurface, TensorFollowsTheDeformedFibers3D) { check_crack_surface_tensor<3>(); }
+
 TEST(DrivingForce, ParticleStretchedAcrossItsFibersTearsAlongThemDoesNot) {
   // Uniaxial stretch of a qr_aniso particle; fibers along x, alpha1 = -1.
   const MaterialParams m = make_material(Model::QrAniso, 1000, 0.0, 1, 0, 0);

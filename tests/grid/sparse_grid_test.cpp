@@ -31,9 +31,13 @@ struct HomeStencil {
   void visit_laplacian(Fn&& fn) const {
     stencil.visit_laplacian([&](int wn, Real l) { fn(node_of[size_t(wn)], l); });
   }
+  template <class Fn>
+  void visit_second(const Mat<Dim>& M, Fn&& fn) const {
+    stencil.visit_second(M, [&](int wn, Real l) { fn(node_of[size_t(wn)], l); });
+  }
   uint32_t index;  // the window's one particle
   Window window;
-  WindowStencil<Dim, Order> stencil;
+  WindowStencil<Dim, Order, true> stencil;
   std::array<int, Window::kSize> node_of;
 };
 
@@ -192,6 +196,69 @@ void check_laplacian() {
 
 TEST(Stencil, CubicLaplacianIsExactForQuadraticsAndSecondOrder2D) { check_laplacian<2>(); }
 TEST(Stencil, CubicLaplacianIsExactForQuadraticsAndSecondOrder3D) { check_laplacian<3>(); }
+
+// M : grad grad f (the anisotropic crack surface term) from the cubic kernel, for random
+// symmetric M with off-diagonal entries: exact for any quadratic x^T Q x / 2 + b.x (tr(M Q),
+// cross terms included), equal to the Laplacian for M = I, and second-order accurate for a
+// plane wave cos(k.x), whose exact value is -(k^T M k) cos(k.x).
+template <int Dim>
+void check_second_derivatives() {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  Mat<Dim> Q, M;
+  for (int a = 0; a < Dim; ++a)
+    for (int b = 0; b <= a; ++b) {
+      Q(a, b) = Q(b, a) = Real(3 * u(rng));
+      M(a, b) = M(b, a) = Real(u(rng));
+    }
+  M += Real(2) * Mat<Dim>::Identity();
+  Vec<Dim> b_lin, k;
+  for (int a = 0; a < Dim; ++a) b_lin[a] = Real(u(rng)), k[a] = Real(2 + a + u(rng));
+  const double exact_quadratic = double((M * Q).trace());
+  std::vector<double> errors;
+  for (double dx : {1.0 / 32, 1.0 / 64}) {
+    SparseGrid<Dim> g;
+    g.setup(Vec3d::Zero(), Vec3d::Ones(), dx);
+    const auto x = random_points<Dim>(300, 0.3, 0.7, 13);
+    g.bin(x);
+    g.zero_scalar_fields();
+    auto quadratic = [&](const Vec<Dim>& p) { return 0.5 * p.dot(Q * p) + b_lin.dot(p); };
+    auto wave = [&](const Vec<Dim>& p) { return std::cos(double(k.dot(p))); };
+    for (int field = 0; field < 2; ++field) {
+      for (size_t i = 0; i < g.scalar.size(); ++i) {
+        const Vec<Dim> p = g.node_position(int(i));
+        g.scalar[i] = Real(field == 0 ? quadratic(p) : wave(p));
+      }
+      double worst = 0, worst_identity = 0;
+      for (size_t i = 0; i < x.size(); ++i) {
+        const HomeStencil<Dim, 3> st(g, x, uint32_t(i));
+        double second = 0, lap = 0, identity = 0;
+        st.visit_second(M, [&](int node, Real w) { second += w * g.scalar[node]; });
+        st.visit_second(Mat<Dim>::Identity(),
+                        [&](int node, Real w) { identity += w * g.scalar[node]; });
+        st.visit_laplacian([&](int node, Real w) { lap += w * g.scalar[node]; });
+        const double exact = field == 0 ? exact_quadratic : -double(k.dot(M * k)) * wave(x[i]);
+        worst = std::max(worst, std::abs(second - exact));
+        worst_identity = std::max(worst_identity, std::abs(identity - lap));
+      }
+      EXPECT_LT(worst_identity, 1e-8) << "M = I against the Laplacian, field " << field;
+      if (field == 0) {
+        EXPECT_LT(worst, 1e-8) << "quadratic, dx " << dx;
+      } else {
+        errors.push_back(worst);
+      }
+    }
+  }
+  EXPECT_LT(errors[0], 0.02 * std::abs(double(k.dot(M * k))));
+  EXPECT_GT(errors[0] / errors[1], 3.0);  // second order
+}
+
+TEST(Stencil, CubicSecondDerivativesAreExactForQuadraticsAndSecondOrder2D) {
+  check_second_derivatives<2>();
+}
+TEST(Stencil, CubicSecondDerivativesAreExactForQuadraticsAndSecondOrder3D) {
+  check_second_derivatives<3>();
+}
 
 }  // namespace
 }  // namespace tear

@@ -130,6 +130,14 @@ TEST(HeldDamage, ExplicitStepLimitFollowsTheDrivingForce) {
   EXPECT_NEAR(sim.damage_dt_limit(), eta / 102, 1e-15);
   for (size_t i = 0; i < sim.particles().size(); ++i) sim.particles().damage[i] = 1;
   EXPECT_NEAR(sim.damage_dt_limit(), eta / 3, 1e-15);
+  // An anisotropic crack surface scales the diffusion part by 1 + sum |beta|.
+  {
+    Scene a = held_scene("explicit", eta, dx);
+    a.materials[0].damage.surface[0] = 3;
+    a.materials[0].damage.surface[1] = -0.5;
+    EXPECT_NEAR(MpmSim<2>(a, held_particles(a, false)).damage_dt_limit(), eta / (1 + 2 * 4.5),
+                1e-15);
+  }
   // The implicit solver has no limit.
   EXPECT_TRUE(std::isinf(MpmSim<2>(held_scene("implicit", eta, dx),
                                       held_particles(s, false))
@@ -181,16 +189,26 @@ struct Profile {
   double amplitude = 0;  // A
 };
 
-Profile held_crack_profile(double l0, double dx, double half_width) {
+// With `beta` != 0 the crack surface term is anisotropic (damage.surface_anisotropy) with
+// fibers at `fiber_degrees` from the crack's normal x: the profile across the crack is then
+// exp(-|x| / (l0 sqrt(M_xx))), M_xx = 1 + beta cos^2(fiber angle).
+Profile held_crack_profile(double l0, double dx, double half_width, double beta = 0,
+                           double fiber_degrees = 0) {
   Scene s = held_scene("implicit", 1e-9, dx);
   s.damage.l0 = l0;
   s.damage.tolerance = 1e-10;
   s.damage.max_iterations = 100000;
+  s.materials[0].damage.surface[0] = beta;
   const double x0 = 0.5 + dx / 4;  // a lattice column
   Particles<2> p = lattice_block<2>(s, Vec<2>(0.125, 0.375), Vec<2>(0.875, 0.625), 2,
                                     [](const Vec<2>&) { return Vec<2>::Zero(); });
-  for (size_t i = 0; i < p.size(); ++i)
+  const Real t = Real(fiber_degrees * 3.14159265358979323846 / 180);
+  Mat<2> D;
+  D << std::cos(t), -std::sin(t), std::sin(t), std::cos(t);
+  for (size_t i = 0; i < p.size(); ++i) {
+    p.fiber[i] = D;
     if (std::abs(p.x[i][0] - x0) < half_width + dx / 10) p.F[i](0, 0) = Real(4);  // D ~ 1e4
+  }
   MpmSim<2> sim(s, std::move(p));
   sim.damage_step(1e-3);
   EXPECT_EQ(sim.damage_stats().unconverged, 0);
@@ -205,8 +223,10 @@ Profile held_crack_profile(double l0, double dx, double half_width) {
   Profile f;
   f.decay = -1 / slope / l0;
   f.amplitude = std::exp((sy - slope * sx) / n);
-  std::printf("  l0 = %.2f dx, crack %.1f dx wide: decay length %.4f l0, amplitude %.3f\n",
-              l0 / dx, (2 * half_width) / dx + 0.5, f.decay, f.amplitude);
+  std::printf(
+      "  l0 = %.2f dx, crack %.1f dx wide, surface anisotropy %g at %g degrees: decay length "
+      "%.4f l0, amplitude %.3f\n",
+      l0 / dx, (2 * half_width) / dx + 0.5, beta, fiber_degrees, f.decay, f.amplitude);
   return f;
 }
 
@@ -225,6 +245,23 @@ TEST(HeldDamage, CrackHeldOpenRelaxesToTheExponentialProfile) {
   EXPECT_GT(wide.amplitude, fine.amplitude);
   EXPECT_GT(wide.amplitude, 0.8);
   EXPECT_LT(wide.amplitude, 1.05);
+}
+
+TEST(HeldDamage, AnisotropicCrackSurfaceStretchesTheProfileAcrossTheFibers) {
+  // M = I + beta w w^T: a crack whose normal makes the angle theta with the fibers decays over
+  // l0 sqrt(1 + beta cos^2 theta); along the fibers (theta = 90) as without anisotropy. Also
+  // beta < 0 (cracks across the fibers preferred).
+  const double l0 = 0.05, dx = 1.0 / 64;
+  const Profile iso = held_crack_profile(l0, dx, dx / 2);
+  for (const auto& [beta, degrees] :
+       {std::pair<double, double>{3, 0}, {3, 90}, {3, 45}, {8, 60}, {-0.5, 0}}) {
+    const double c = std::cos(degrees * 3.14159265358979323846 / 180);
+    const double expected = std::sqrt(1 + beta * c * c);
+    const Profile f = held_crack_profile(l0, dx, dx / 2, beta, degrees);
+    // Relative to the isotropic profile on the same grid, whose decay carries the grid's error.
+    EXPECT_NEAR(f.decay / iso.decay, expected, 0.03 * expected)
+        << "beta " << beta << " at " << degrees << " degrees";
+  }
 }
 
 }  // namespace

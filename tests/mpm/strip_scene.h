@@ -7,7 +7,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <cmath>
+#include <utility>
 
 namespace tear::testing {
 
@@ -31,6 +33,25 @@ inline nlohmann::json strip(double degrees) {
   })");
   const double t = degrees * 3.14159265358979323846 / 180;
   doc["objects"][0]["fibers"] = {{"type", "constant"}, {"a1", {std::cos(t), std::sin(t)}}};
+  return doc;
+}
+
+// The strip with a notch: a slit one cell tall, [0.4, 0.44] x [0.5, 0.51], cut from its left
+// edge (three boxes meeting on cell faces, so no particle is sampled twice). A crack starts at
+// the slit's tip, away from the grips.
+inline nlohmann::json notched_strip(double degrees) {
+  nlohmann::json doc = strip(degrees);
+  const nlohmann::json body = doc["objects"][0];
+  doc["objects"] = nlohmann::json::array();
+  for (const auto& [lo, hi] :
+       {std::pair<std::array<double, 2>, std::array<double, 2>>{{0.4, 0.2}, {0.44, 0.5}},
+        {{0.4, 0.51}, {0.44, 0.8}},
+        {{0.44, 0.2}, {0.6, 0.8}}}) {
+    nlohmann::json o = body;
+    o["shape"]["min"] = lo;
+    o["shape"]["max"] = hi;
+    doc["objects"].push_back(o);
+  }
   return doc;
 }
 

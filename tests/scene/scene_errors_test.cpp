@@ -220,6 +220,16 @@ std::vector<BrokenScene> broken_scenes() {
               with_damage(R"({"sigma_c": 1, "eta": 1, "alpha": [0, 0, 0]})"),
               "materials.jelly.damage.alpha: must be a number or an array of 1 to 2 numbers, got "
               "3 entries"),
+      patched("DamageSurfaceAnisotropyMinusOne",
+              with_damage(R"({"sigma_c": 1, "eta": 1, "surface_anisotropy": -1})"),
+              "materials.jelly.damage.surface_anisotropy: must be a number > -1, got -1"),
+      patched("DamageSurfaceAnisotropySecondBelowMinusOne",
+              with_damage(R"({"sigma_c": 1, "eta": 1, "surface_anisotropy": [4, -3]})"),
+              "materials.jelly.damage.surface_anisotropy[1]: must be a number > -1, got -3"),
+      patched("DamageSurfaceAnisotropyNotANumber",
+              with_damage(R"({"sigma_c": 1, "eta": 1, "surface_anisotropy": "strong"})"),
+              "materials.jelly.damage.surface_anisotropy: must be a number or an array of 1 to 2 "
+              "numbers, got a string"),
       patched("DamageSigmaCMissing", with_damage(R"({"eta": 1})"),
               "materials.jelly.damage.sigma_c: required"),
       patched("DamageSigmaCZero", with_damage(R"({"sigma_c": 0, "eta": 1})"),

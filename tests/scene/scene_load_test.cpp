@@ -163,6 +163,9 @@ TEST(SceneLoad, DocumentedExamplesLoad) {
   EXPECT_EQ(a.damage.solver, DamageSolver::Explicit);
   EXPECT_DOUBLE_EQ(a.damage.l0, 0.005);
   EXPECT_DOUBLE_EQ(a.materials[0].damage.alpha[0], -1);
+  // The crack surface is the paper's isotropic one unless asked for.
+  EXPECT_FALSE(a.materials[0].damage.anisotropic_surface());
+  EXPECT_EQ(a.resolved["materials"]["fibrous"]["damage"]["surface_anisotropy"], json({0.0, 0.0}));
   EXPECT_EQ(a.boundaries.size(), 2u);
   EXPECT_EQ(a.resolved["materials"]["fibrous"]["fiber_scale"], json({50.0}));  // [50, 0] in 2D
   Scene b = parse_scene(json::parse(R"({

@@ -28,6 +28,20 @@ struct DamageParams {
   double eta = 0;            // mobility
   double residual = 0;       // stiffness left at d = 1, in [0, 1)
   double alpha[2] = {0, 0};  // structural-tensor weights of a1, a2, in [-1, inf)
+  // Anisotropy of the crack surface term, beta_k > -1 per fiber (a1, a2, as alpha): the
+  // geometric resistance takes l0^2 M : grad grad d with M = I + sum_k beta_k w_k w_k^T, w_k
+  // the deformed fiber F a_k normalised (damage/driving_force.h crack_surface_tensor). beta > 0
+  // makes damage gradients along the fiber cost more, so cracks prefer to run along it.
+  // 0: the paper's isotropic term.
+  double surface[2] = {0, 0};
+
+  bool anisotropic_surface() const { return surface[0] != 0 || surface[1] != 0; }
+  // How much the surface term can scale the damage operator's bound (damage_dt_limit):
+  // 1 + sum_k |beta_k|.
+  double surface_factor() const {
+    return 1 + (surface[0] < 0 ? -surface[0] : surface[0]) +
+           (surface[1] < 0 ? -surface[1] : surface[1]);
+  }
 };
 
 // Implicit damage solves since the counters were last reset (stats.jsonl figures).

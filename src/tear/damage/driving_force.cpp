@@ -96,6 +96,18 @@ Mat<Dim> structural_tensor(const Mat<Dim>& F, const Mat<Dim>& D, const Real alph
 }
 
 template <int Dim>
+Mat<Dim> crack_surface_tensor(const Mat<Dim>& F, const Mat<Dim>& D, const double beta[2]) {
+  Mat<Dim> M = Mat<Dim>::Identity();
+  for (int k = 0; k < 2; ++k) {
+    if (beta[k] == 0) continue;
+    const Vec<Dim> w = F * D.col(k);
+    const Real len2 = w.squaredNorm();
+    if (len2 > 0) M += (Real(beta[k]) / len2) * w * w.transpose();
+  }
+  return M;
+}
+
+template <int Dim>
 Real driving_phi(const Mat<Dim>& cauchy, const Mat<Dim>& A, Real sigma_c) {
   const Mat<Dim> s = tensile_part<Dim>(cauchy);
   return (A * s).cwiseProduct(s * A).sum() / (sigma_c * sigma_c);
@@ -192,6 +204,8 @@ template Mat<2> tensile_part<2>(const Mat<2>&);
 template Mat<3> tensile_part<3>(const Mat<3>&);
 template Mat<2> structural_tensor<2>(const Mat<2>&, const Mat<2>&, const Real[2]);
 template Mat<3> structural_tensor<3>(const Mat<3>&, const Mat<3>&, const Real[2]);
+template Mat<2> crack_surface_tensor<2>(const Mat<2>&, const Mat<2>&, const double[2]);
+template Mat<3> crack_surface_tensor<3>(const Mat<3>&, const Mat<3>&, const double[2]);
 template Real driving_phi<2>(const Mat<2>&, const Mat<2>&, Real);
 template Real driving_phi<3>(const Mat<3>&, const Mat<3>&, Real);
 template Real particle_phi<2>(const MaterialParams&, const Mat<2>&, const Mat<2>&, const Real[2],

@@ -23,6 +23,12 @@ Mat<Dim> tensile_part(const Mat<Dim>& sym);
 template <int Dim>
 Mat<Dim> structural_tensor(const Mat<Dim>& F, const Mat<Dim>& D, const Real alpha[2]);
 
+// The crack surface term's tensor M = I + sum_k beta_k w_k w_k^T (DamageParams::surface), with
+// w_k = F a_k / |F a_k| the deformed fiber k of the rest frame D = [a1 a2 (a3)]. A fiber
+// crushed to zero length (|F a_k| = 0) adds nothing.
+template <int Dim>
+Mat<Dim> crack_surface_tensor(const Mat<Dim>& F, const Mat<Dim>& D, const double beta[2]);
+
 // Phi = (A sigma+) : (sigma+ A) / sigma_c^2 for a given Cauchy stress and structural tensor.
 template <int Dim>
 Real driving_phi(const Mat<Dim>& cauchy, const Mat<Dim>& A, Real sigma_c);

@@ -117,8 +117,12 @@ Real damage_sweep(Groups<Dim>* groups, const SparseGrid<Dim>& grid,
         const uint32_t q = bins.order[k];
         const DamageParams& dp = params[p.material[q]];
         if (!dp.enabled) continue;
-        Real lap = 0;
-        if (window) {
+        Real lap = 0;  // (L d)_p, or M_p : grad grad d with an anisotropic crack surface
+        if (window && dp.anisotropic_surface()) {
+          const Mat<Dim> M = crack_surface_tensor<Dim>(p.F[q], p.fiber[q], dp.surface);
+          WindowStencil<Dim, kDamageOrder, true>(*window, p.x[q])
+              .visit_second(M, [&](int i, Real w) { lap += w * field[i]; });
+        } else if (window) {
           WindowStencil<Dim, kDamageOrder>(*window, p.x[q]).visit_laplacian(
               [&](int i, Real lap_w) { lap += lap_w * field[i]; });
         }
@@ -218,9 +222,9 @@ void damage_implicit(std::vector<Particles<Dim>>* groups, SparseGrid<Dim>* grid,
   // sweep by omega = 2 / (2 + k rho / (1 + k)), which keeps the factor below 1.
   std::vector<std::vector<Real>> start(groups->size());  // d^n of the step
   for (size_t g = 0; g < groups->size(); ++g) start[g] = (*groups)[g].damage;
-  Real kappa = 0;  // max over materials of k / (1 + k)
+  Real kappa = 0;  // max over materials of k / (1 + k), times the surface term's factor
   for (const DamageParams& dp : params)
-    if (dp.enabled) kappa = std::max(kappa, dt / (Real(dp.eta) + dt));
+    if (dp.enabled) kappa = std::max(kappa, Real(dp.surface_factor()) * dt / (Real(dp.eta) + dt));
   const double l0_dx = settings.l0 / grid->dx();
   const Real rho = Real(kLaplacianRadius * 4 * l0_dx * l0_dx) * kappa;
   const Real omega = rho <= 1 ? Real(1) : Real(2) / (2 + rho);
@@ -263,13 +267,19 @@ double damage_dt_limit(const std::vector<Particles<Dim>>& groups, const DamageSe
   // does not grow values; the 1-D cubic B-spline's sum_j |N''(x - j)| is at most 4, at
   // nodes). Damage never decreases, so an overshoot would stay: the limit holds it off. Where
   // D > kDriveCap the overshoot is below 1 / (1 + D) < 1 %, so D counts at most kDriveCap.
+  // An anisotropic surface term M : grad grad d, M = I + sum_k beta_k w_k w_k^T, has the bound
+  // times 1 + sum_k |beta_k|: for a unit w, dx^2 sum_i |w^T H_i w| <= 4 sum_a w_a^2 + (3/2)^2
+  // sum_(a != b) |w_a w_b| <= 4 + 2.25 (dim - 1) < 4 dim (the cubic's sum_j |N'| is at most
+  // 3/2, midway between nodes).
   if (settings.solver != DamageSolver::Explicit) return std::numeric_limits<double>::infinity();
   const double l0_dx = settings.l0 / dx;
   const double diffusion = 4.0 * Dim * l0_dx * l0_dx;
   // Largest (1 + min(D, cap) + diffusion) / eta over particles that can still crack.
   double worst = 0;
   for (const DamageParams& dp : params)
-    if (dp.enabled) worst = std::max(worst, (1 + (cracking ? kDriveCap : 0) + diffusion) / dp.eta);
+    if (dp.enabled)
+      worst = std::max(worst,
+                       (1 + (cracking ? kDriveCap : 0) + diffusion * dp.surface_factor()) / dp.eta);
   if (!cracking) {
     for (const Particles<Dim>& p : groups)
       worst = std::max(worst, parallel_max<double>(
@@ -278,7 +288,7 @@ double damage_dt_limit(const std::vector<Particles<Dim>>& groups, const DamageSe
                                     const DamageParams& dp = params[p.material[i]];
                                     if (!dp.enabled || p.damage[i] >= 1) return 0.0;
                                     const double D = std::min(double(p.drive[i]), kDriveCap);
-                                    return (1 + D + diffusion) / dp.eta;
+                                    return (1 + D + diffusion * dp.surface_factor()) / dp.eta;
                                   },
                                   0.0));
   }

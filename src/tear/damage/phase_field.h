@@ -3,9 +3,11 @@
 // Both solvers integrate the same semi-discrete law on the particles,
 //   eta d_p' = < (1 - d_p) D_p - (d_p - l0^2 (L d)_p) >,
 // where (L d)_p = sum_i LapN_i(x_p) d_i is the Laplacian of the normalised cubic B-spline
-// average d_i = sum_q w_iq d_q / sum_q w_iq (supplement Alg. 4). Explicit: forward Euler (paper
-// Eq. 11). Implicit: backward Euler, solved for the particles' damage by sweeps
-// (docs/materials.md "Damage solvers"), so that it tends to the explicit result as dt shrinks.
+// average d_i = sum_q w_iq d_q / sum_q w_iq (supplement Alg. 4); with an anisotropic crack
+// surface (DamageParams::surface) it is sum_i (M_p : grad grad N_i(x_p)) d_i instead. Explicit:
+// forward Euler (paper Eq. 11). Implicit: backward Euler, solved for the particles' damage by
+// sweeps (docs/materials.md "Damage solvers"), so that it tends to the explicit result as dt
+// shrinks.
 #pragma once
 
 #include "tear/damage/damage_settings.h"
@@ -64,8 +66,9 @@ constexpr double kDriveCap = 99;
 // measured on lattice and random samplings in 2D and 3D, rounded up.
 constexpr double kLaplacianRadius = 0.4;
 
-// The explicit damage update's step limit, eta / (1 + min(D, kDriveCap) + 4 dim l0^2 / dx^2)
-// over the damageable particles not yet fully cracked; with `cracking`, the limit once a crack
+// The explicit damage update's step limit, eta / (1 + min(D, kDriveCap) + 4 dim l0^2 / dx^2 s)
+// over the damageable particles not yet fully cracked (s = DamageParams::surface_factor(), 1
+// for the paper's isotropic surface term); with `cracking`, the limit once a crack
 // grows (D = kDriveCap). Infinity for the implicit solver and without damage.
 template <int Dim>
 double damage_dt_limit(const std::vector<Particles<Dim>>& groups, const DamageSettings& settings,

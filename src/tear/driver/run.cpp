@@ -76,8 +76,10 @@ void print_crack_onset(std::ostream& out, const Scene& s, const MaterialSpec& m)
     return std::string(buf);
   };
   out << "damage     " << m.name << ": sigma_c " << m.damage.sigma_c << ", eta " << m.damage.eta
-      << ", alpha [" << m.damage.alpha[0] << ", " << m.damage.alpha[1]
-      << "]; cracks start at a uniaxial stretch of " << text(across) << " across the fibers, "
+      << ", alpha [" << m.damage.alpha[0] << ", " << m.damage.alpha[1] << "]";
+  if (m.damage.anisotropic_surface())
+    out << ", surface_anisotropy [" << m.damage.surface[0] << ", " << m.damage.surface[1] << "]";
+  out << "; cracks start at a uniaxial stretch of " << text(across) << " across the fibers, "
       << text(along) << " along them (other directions held)\n";
 }
 

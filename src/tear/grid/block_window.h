@@ -100,16 +100,19 @@ class BlockWindow {
 // One particle's B-spline stencil in its home block's window, kept in separable form
 // (per-axis weights and offsets; nothing per node is stored). visit(fn) calls fn(window
 // index, w, rel) for every node with w = N_i(x_p) and rel = x_i - x_p (world units), formed on
-// the fly; visit_laplacian(fn) calls fn(window index, Laplacian of N_i at x_p). Node order: x
+// the fly; visit_laplacian(fn) calls fn(window index, Laplacian of N_i at x_p); with
+// kSecond, visit_second(M, fn) calls fn(window index, M : grad grad N_i(x_p)) for a symmetric M
+// (M = I gives the Laplacian, with other rounding). Node order: x
 // fastest, as the grid's storage order would give, so that sums do not depend on the window.
 // Read rel component by component (rel[c]): it is stored from scalars, and a packed read of it
 // (rel as an Eigen vector operand) waits on those stores (store-forwarding stall, measured at
 // 90 % of a pass).
-template <int Dim, int Order>
+template <int Dim, int Order, bool kSecond = false>
 struct WindowStencil {
   static constexpr int kWidth = Order + 1;
   static constexpr int kW = BlockWindow<Dim, Order>::kWidth;
   Real w1[Dim][kWidth], rel1[Dim][kWidth], dd1[Dim][kWidth];  // dd1: N'' in world units
+  Real dw1[kSecond ? Dim : 1][kWidth];                        // with kSecond: N' in world units
 
   // Inlined: called once a particle, out of line it costs 5 % of a transfer.
   __attribute__((always_inline)) WindowStencil(const BlockWindow<Dim, Order>& window,
@@ -126,6 +129,7 @@ struct WindowStencil {
         w1[d][k] = s.w[k];
         rel1[d][k] = (Real(s.base + k) - xg[d]) * Real(grid.dx());
         dd1[d][k] = s.ddw[k] * inv_dx * inv_dx;
+        if constexpr (kSecond) dw1[d][k] = s.dw[k] * inv_dx;
       }
     }
   }
@@ -156,6 +160,29 @@ struct WindowStencil {
         wjk = w1[1][j] * w1[2][k], ljk = dd1[1][j] * w1[2][k] + w1[1][j] * dd1[2][k];
       }
       for (int i = 0; i < kWidth; ++i) fn(row + i, dd1[0][i] * wjk + w1[0][i] * ljk);
+    });
+  }
+
+  template <class Fn>
+  void visit_second(const Mat<Dim>& M, Fn&& fn) const {
+    static_assert(kSecond, "visit_second needs WindowStencil<Dim, Order, true>");
+    // M : H_i with H_i's entries products of one factor per axis (N, N' or N''): grouped by
+    // the x factor, cx'' N''(x) + cx' N'(x) + cx N(x) for each row.
+    for_rows([&](int row, int j, int k) {
+      Real c_dd, c_dw, c_w;
+      if constexpr (Dim == 2) {
+        c_dd = M(0, 0) * w1[1][j];
+        c_dw = 2 * M(0, 1) * dw1[1][j];
+        c_w = M(1, 1) * dd1[1][j];
+      } else {
+        const Real wy = w1[1][j], dy = dw1[1][j], ddy = dd1[1][j];
+        const Real wz = w1[2][k], dz = dw1[2][k], ddz = dd1[2][k];
+        c_dd = M(0, 0) * wy * wz;
+        c_dw = 2 * (M(0, 1) * dy * wz + M(0, 2) * wy * dz);
+        c_w = M(1, 1) * ddy * wz + M(2, 2) * wy * ddz + 2 * M(1, 2) * dy * dz;
+      }
+      for (int i = 0; i < kWidth; ++i)
+        fn(row + i, dd1[0][i] * c_dd + dw1[0][i] * c_dw + w1[0][i] * c_w);
     });
   }
 

@@ -34,7 +34,7 @@ json parse_damage_spec(const Reader& r, const json& m, const std::string& path, 
   const json* j = r.find(m, "damage");
   if (!j) return nullptr;
   std::string p = key_path(path, "damage");
-  r.object(*j, p, {"sigma_c", "eta", "residual", "alpha"});
+  r.object(*j, p, {"sigma_c", "eta", "residual", "alpha", "surface_anisotropy"});
   d->enabled = true;
   d->sigma_c = r.number(*j, p, "sigma_c");
   r.positive(d->sigma_c, key_path(p, "sigma_c"));
@@ -50,10 +50,18 @@ json parse_damage_spec(const Reader& r, const json& m, const std::string& path, 
     r.check(d->alpha[i] >= -1 && std::isfinite(d->alpha[i]),
             a && a->is_array() ? index_path(key_path(p, "alpha"), i) : key_path(p, "alpha"),
             "must be a number >= -1, got " + num_str(d->alpha[i]));
+  const json* b = r.find(*j, "surface_anisotropy");
+  if (b) scalar_or_array(r, *b, key_path(p, "surface_anisotropy"), 2, d->surface);
+  for (int i = 0; i < 2; ++i)
+    r.check(d->surface[i] > -1 && std::isfinite(d->surface[i]),
+            b && b->is_array() ? index_path(key_path(p, "surface_anisotropy"), i)
+                               : key_path(p, "surface_anisotropy"),
+            "must be a number > -1, got " + num_str(d->surface[i]));
   return {{"sigma_c", d->sigma_c},
           {"eta", d->eta},
           {"residual", d->residual},
-          {"alpha", {d->alpha[0], d->alpha[1]}}};
+          {"alpha", {d->alpha[0], d->alpha[1]}},
+          {"surface_anisotropy", {d->surface[0], d->surface[1]}}};
 }
 
 MaterialSpec parse_material(const Reader& r, const std::string& name, const json& m,
