@@ -43,20 +43,19 @@ json parse_damage_spec(const Reader& r, const json& m, const std::string& path, 
   d->residual = r.number(*j, p, "residual", 0.0);
   r.check(d->residual >= 0 && d->residual < 1, key_path(p, "residual"),
           "must be in [0, 1), got " + num_str(d->residual));
-  d->alpha[0] = d->alpha[1] = 0;
-  const json* a = r.find(*j, "alpha");
-  if (a) scalar_or_array(r, *a, key_path(p, "alpha"), 2, d->alpha);
-  for (int i = 0; i < 2; ++i)
-    r.check(d->alpha[i] >= -1 && std::isfinite(d->alpha[i]),
-            a && a->is_array() ? index_path(key_path(p, "alpha"), i) : key_path(p, "alpha"),
-            "must be a number >= -1, got " + num_str(d->alpha[i]));
-  const json* b = r.find(*j, "surface_anisotropy");
-  if (b) scalar_or_array(r, *b, key_path(p, "surface_anisotropy"), 2, d->surface);
-  for (int i = 0; i < 2; ++i)
-    r.check(d->surface[i] > -1 && std::isfinite(d->surface[i]),
-            b && b->is_array() ? index_path(key_path(p, "surface_anisotropy"), i)
-                               : key_path(p, "surface_anisotropy"),
-            "must be a number > -1, got " + num_str(d->surface[i]));
+  // Per-fiber weights (0 when absent), each finite and above -1 (alpha: -1 allowed too).
+  auto weights = [&](const char* key, bool minus_one_allowed, double* out) {
+    const json* w = r.find(*j, key);
+    out[0] = out[1] = 0;
+    if (w) scalar_or_array(r, *w, key_path(p, key), 2, out);
+    for (int i = 0; i < 2; ++i)
+      r.check(std::isfinite(out[i]) && (out[i] > -1 || (minus_one_allowed && out[i] == -1)),
+              w && w->is_array() ? index_path(key_path(p, key), i) : key_path(p, key),
+              std::string("must be a number ") + (minus_one_allowed ? ">=" : ">") +
+                  " -1, got " + num_str(out[i]));
+  };
+  weights("alpha", true, d->alpha);
+  weights("surface_anisotropy", false, d->surface);
   return {{"sigma_c", d->sigma_c},
           {"eta", d->eta},
           {"residual", d->residual},
