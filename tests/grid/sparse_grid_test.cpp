@@ -154,6 +154,20 @@ TEST(SparseGrid, StencilWeightsReproduceConstantsLinesAndTheMlsInertia) {
 namespace tear {
 namespace {
 
+// A grid of spacing dx over the unit box with the points x binned and its scalar fields zeroed.
+template <int Dim>
+void bin_points(SparseGrid<Dim>* g, double dx, const std::vector<Vec<Dim>>& x) {
+  g->setup(Vec3d::Zero(), Vec3d::Ones(), dx);
+  g->bin(x);
+  g->zero_scalar_fields();
+}
+
+// The grid's scalar field set to f at every node.
+template <int Dim, class Field>
+void sample_on_nodes(SparseGrid<Dim>* g, Field&& f) {
+  for (size_t i = 0; i < g->scalar.size(); ++i) g->scalar[i] = Real(f(g->node_position(int(i))));
+}
+
 // The cubic-kernel Laplacian of a smooth field sampled on the grid nodes, evaluated at
 // particles: exact for quadratics (the cubic B-spline reproduces them up to a constant
 // shift, which the Laplacian removes) and second-order accurate for a cosine.
@@ -162,17 +176,12 @@ void check_laplacian() {
   std::vector<double> errors;
   for (double dx : {1.0 / 32, 1.0 / 64}) {
     SparseGrid<Dim> g;
-    g.setup(Vec3d::Zero(), Vec3d::Ones(), dx);
     const auto x = random_points<Dim>(300, 0.3, 0.7, 11);
-    g.bin(x);
-    g.zero_scalar_fields();
+    bin_points(&g, dx, x);
     auto quadratic = [](const Vec<Dim>& p) { return 3 * p[0] * p[0] - p[0] * p[1] + 2 * p[1] * p[1]; };
     auto wave = [](const Vec<Dim>& p) { return std::cos(4 * p[0]) * std::cos(3 * p[1]); };
     for (int field = 0; field < 2; ++field) {
-      for (size_t i = 0; i < g.scalar.size(); ++i) {
-        const Vec<Dim> p = g.node_position(int(i));
-        g.scalar[i] = field == 0 ? quadratic(p) : wave(p);
-      }
+      sample_on_nodes(&g, [&](const Vec<Dim>& p) { return field == 0 ? quadratic(p) : wave(p); });
       double worst = 0;
       for (size_t i = 0; i < x.size(); ++i) {
         const Vec<Dim>& p = x[i];
@@ -218,17 +227,12 @@ void check_second_derivatives() {
   std::vector<double> errors;
   for (double dx : {1.0 / 32, 1.0 / 64}) {
     SparseGrid<Dim> g;
-    g.setup(Vec3d::Zero(), Vec3d::Ones(), dx);
     const auto x = random_points<Dim>(300, 0.3, 0.7, 13);
-    g.bin(x);
-    g.zero_scalar_fields();
+    bin_points(&g, dx, x);
     auto quadratic = [&](const Vec<Dim>& p) { return 0.5 * p.dot(Q * p) + b_lin.dot(p); };
     auto wave = [&](const Vec<Dim>& p) { return std::cos(double(k.dot(p))); };
     for (int field = 0; field < 2; ++field) {
-      for (size_t i = 0; i < g.scalar.size(); ++i) {
-        const Vec<Dim> p = g.node_position(int(i));
-        g.scalar[i] = Real(field == 0 ? quadratic(p) : wave(p));
-      }
+      sample_on_nodes(&g, [&](const Vec<Dim>& p) { return field == 0 ? quadratic(p) : wave(p); });
       double worst = 0, worst_identity = 0;
       for (size_t i = 0; i < x.size(); ++i) {
         const HomeStencil<Dim, 3> st(g, x, uint32_t(i));
