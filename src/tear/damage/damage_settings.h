@@ -2,6 +2,8 @@
 // solver settings, each material's parameters, and the implicit solver's figures. Plain data.
 #pragma once
 
+#include <cmath>
+
 namespace tear {
 
 enum class DamageSolver { None, Explicit, Implicit };
@@ -38,10 +40,7 @@ struct DamageParams {
   bool anisotropic_surface() const { return surface[0] != 0 || surface[1] != 0; }
   // How much the surface term can scale the damage operator's bound (damage_dt_limit):
   // 1 + sum_k |beta_k|.
-  double surface_factor() const {
-    return 1 + (surface[0] < 0 ? -surface[0] : surface[0]) +
-           (surface[1] < 0 ? -surface[1] : surface[1]);
-  }
+  double surface_factor() const { return 1 + std::abs(surface[0]) + std::abs(surface[1]); }
 };
 
 // Implicit damage solves since the counters were last reset (stats.jsonl figures).
