@@ -265,6 +265,14 @@ TEST_F(Cli, CheckPrintsTheCrackOnsetStretch) {
   EXPECT_NE(out_.find("alpha [-1, 0], surface_anisotropy [30, 0]; cracks start"),
             std::string::npos)
       << out_;
+  // The scene-wide settings: the solver, l0 and whether crack fields split the grid.
+  EXPECT_NE(out_.find("cracking   explicit damage solver, l0 "), std::string::npos) << out_;
+  EXPECT_NE(out_.find(", one velocity field (the paper's"), std::string::npos) << out_;
+  aniso["damage"]["split_fields"] = true;
+  aniso["damage"]["split_damage"] = 0.3;
+  ASSERT_EQ(tear("check " + write_scene(aniso)), 0) << err_;
+  EXPECT_NE(out_.find(", crack fields (a node splits at damage 0.3)"), std::string::npos)
+      << out_;
 }
 
 TEST_F(Cli, ImplicitDamageRecordsSolverFiguresAndResumesBitIdentically) {

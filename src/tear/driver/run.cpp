@@ -315,6 +315,15 @@ int check_scene(const std::string& scene_path, const std::vector<std::string>& o
       out << ", wave speed " << wave_speed(p) << (m.damage.enabled ? ", damage" : "") << "\n";
       if (m.damage.enabled) print_crack_onset(out, s, m);
     }
+    if (s.damage.solver != DamageSolver::None) {
+      out << "cracking   "
+          << (s.damage.solver == DamageSolver::Explicit ? "explicit" : "implicit")
+          << " damage solver, l0 " << s.damage.l0 << ", ";
+      if (s.damage.split_fields)
+        out << "crack fields (a node splits at damage " << s.damage.split_damage << ")\n";
+      else
+        out << "one velocity field (the paper's; damage.split_fields for crack fields)\n";
+    }
     const nlohmann::json& objects = s.resolved.at("objects");
     for (size_t i = 0; i < s.objects.size(); ++i) {
       const ObjectSpec& ob = s.objects[i];
