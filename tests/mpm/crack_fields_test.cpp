@@ -13,6 +13,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace tear {
 namespace {
@@ -211,6 +214,69 @@ std::vector<Real> split_state(int threads) {
   for (size_t i = 0; i < p.size(); ++i)
     out.insert(out.end(), {p.x[i].x(), p.x[i].y(), p.v[i].x(), p.v[i].y()});
   return out;
+}
+
+// A one-process Domain that writes down the halo calls a step makes: name, then each field's
+// node count and components.
+class RecordingDomain final : public Domain {
+ public:
+  struct Call {
+    std::string name;
+    std::vector<std::pair<size_t, int>> fields;  // key first for max_halos, then carried, maxed
+  };
+  std::vector<Call> calls;
+
+  int rank() const override { return 0; }
+  int ranks() const override { return 1; }
+  void sum_halos(const std::vector<NodeFieldView>& f) override { note("sum_halos", f); }
+  void copy_halos(const std::vector<NodeFieldView>& f) override { note("copy_halos", f); }
+  void max_halos(NodeFieldView key, const std::vector<NodeFieldView>& carried,
+                 const std::vector<NodeFieldView>& maxed) override {
+    std::vector<NodeFieldView> f = {key};
+    f.insert(f.end(), carried.begin(), carried.end());
+    f.insert(f.end(), maxed.begin(), maxed.end());
+    note("max_halos", f);
+  }
+  void migrate(ParticleRecords*) override {}
+  void sum(double*, size_t) const override {}
+  double min(double x) const override { return x; }
+  double max(double x) const override { return x; }
+
+ private:
+  void note(const char* name, const std::vector<NodeFieldView>& f) {
+    Call c{name, {}};
+    for (const NodeFieldView& v : f) c.fields.emplace_back(v.count, v.components);
+    calls.push_back(c);
+  }
+};
+
+TEST(CrackFields, CrackNormalsGoThroughTheDomainsHalos) {
+  // What a multi-process Domain needs from the crack-field phase: after the scatter of normals,
+  // a max-type halo (the steepest gradient, with its normal, and the largest damage), then the
+  // decided normals copied to the ghosts, both before P2G's momentum halos (which then include
+  // the second field). Without crack fields neither call is made.
+  for (bool split : {true, false}) {
+    CutBlock<2> b = cut_block<2>(split, 0.2, 30);
+    RecordingDomain domain;
+    b.sim.use_domain(&domain);
+    b.sim.step(2e-4);
+    const size_t n = b.sim.grid().num_active_nodes();
+    size_t max_at = domain.calls.size();
+    for (size_t k = 0; k < domain.calls.size(); ++k)
+      if (domain.calls[k].name == "max_halos") max_at = k;
+    if (!split) {
+      EXPECT_EQ(max_at, domain.calls.size()) << "a max-type halo without crack fields";
+      continue;
+    }
+    ASSERT_LT(max_at + 2, domain.calls.size()) << "no max-type halo, or nothing after it";
+    using F = std::vector<std::pair<size_t, int>>;
+    EXPECT_EQ(domain.calls[max_at].fields, (F{{n, 1}, {n, 2}, {n, 1}}));
+    EXPECT_EQ(domain.calls[max_at + 1].name, "copy_halos");
+    EXPECT_EQ(domain.calls[max_at + 1].fields, (F{{n, 2}}));
+    // P2G's momentum halos: mass, velocity, old velocity for each of the two fields.
+    EXPECT_EQ(domain.calls[max_at + 2].name, "sum_halos");
+    EXPECT_EQ(domain.calls[max_at + 2].fields.size(), 6u);
+  }
 }
 
 TEST(CrackFields, SameBitsForOneAndTwoThreads) {

@@ -55,6 +55,13 @@ class Domain {
   // Before a gather from the grid (G2P, the damage Laplacian): copy every owned node's value
   // into the other ranks' ghost copies.
   virtual void copy_halos(const std::vector<NodeFieldView>& fields) = 0;
+  // After a scatter that keeps, per node, the largest of a key with the values that came with
+  // it (crack fields: the steepest damage gradient and its direction): every node this rank
+  // owns takes, among its own copy and the other ranks' ghost copies of it, the one with the
+  // largest `key` (a tie goes to the lowest rank: deterministic) and that copy's `carried`
+  // values, and the element-wise largest of each `maxed` field over all copies.
+  virtual void max_halos(NodeFieldView key, const std::vector<NodeFieldView>& carried,
+                         const std::vector<NodeFieldView>& maxed) = 0;
   // After G2P: send the particles that left this rank's region to their owners, receive the
   // ones that entered it.
   virtual void migrate(ParticleRecords* particles) = 0;
@@ -76,6 +83,8 @@ class LocalDomain final : public Domain {
   int ranks() const override { return 1; }
   void sum_halos(const std::vector<NodeFieldView>&) override {}
   void copy_halos(const std::vector<NodeFieldView>&) override {}
+  void max_halos(NodeFieldView, const std::vector<NodeFieldView>&,
+                 const std::vector<NodeFieldView>&) override {}
   void migrate(ParticleRecords*) override {}
   void sum(double*, size_t) const override {}
   double min(double x) const override { return x; }

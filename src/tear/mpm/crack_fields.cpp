@@ -97,10 +97,17 @@ void partition_crack_fields(const MpmSettings& settings, MpmState<Dim>* state, D
     window.store(most.data(), &grid.scalar_weight);
     window.store(normal.data(), &grid.crack_normal);
   });
-  parallel_for(grid.num_active_nodes(), [&](size_t node) {
+  // Across ranks: an owned node takes the steepest of its ghost copies' normals and the largest
+  // damage; after the split decision every ghost gets its owner's normal (P2G and G2P read it).
+  const size_t n = grid.num_active_nodes();
+  const NodeFieldView normals = node_field(grid.crack_normal.data()->data(), n, Dim);
+  domain.max_halos(node_field(grid.mass2.data(), n, 1), {normals},
+                   {node_field(grid.scalar_weight.data(), n, 1)});
+  parallel_for(n, [&](size_t node) {
     if (grid.scalar_weight[node] < split) grid.crack_normal[node].setZero();
     grid.mass2[node] = 0;
   });
+  domain.copy_halos({normals});
 }
 
 template void partition_crack_fields<2>(const MpmSettings&, MpmState<2>*, Domain&);
