@@ -26,13 +26,13 @@ class MpmSim {
   MpmSim(const Scene& scene, std::vector<Particles<Dim>> groups)
       : settings_(mpm_settings(scene)), state_(make_mpm_state<Dim>(settings_, std::move(groups))) {}
 
-  void step(double dt) { explicit_step(settings_, &state_, dt, &record_, *domain_); }
+  void step(double dt) { explicit_step(settings_, &state_, dt, &record_, domain()); }
   // The damage update of one step alone, particles held still.
-  void damage_step(double dt) { damage_only_step(settings_, &state_, dt, &record_, *domain_); }
-  DtLimits dt_limits() const { return tear::dt_limits(settings_, state_, *domain_); }
+  void damage_step(double dt) { damage_only_step(settings_, &state_, dt, &record_, domain()); }
+  DtLimits dt_limits() const { return tear::dt_limits(settings_, state_, domain()); }
   // Steps through `domain` (which must outlive the steps) instead of a LocalDomain: to see the
   // calls a step makes.
-  void use_domain(Domain* domain) { domain_ = domain; }
+  void use_domain(Domain* domain) { external_ = domain; }
   double estimate_dt() const { return dt_limits().dt(); }
   double damage_dt_limit(bool cracking = false) const {
     return tear::damage_dt_limit(state_.groups, settings_.damage, settings_.material_damage,
@@ -58,7 +58,11 @@ class MpmSim {
   MpmState<Dim> state_;
   StepRecord record_;
   LocalDomain local_;
-  Domain* domain_ = &local_;
+  Domain* external_ = nullptr;  // not a pointer to local_: an MpmSim may be moved
+  Domain& domain() { return external_ ? *external_ : static_cast<Domain&>(local_); }
+  const Domain& domain() const {
+    return external_ ? *external_ : static_cast<const Domain&>(local_);
+  }
 };
 
 inline Scene basic_scene(int dim, double dx, Vec3d lo, Vec3d hi, Model model, double E, double nu,
