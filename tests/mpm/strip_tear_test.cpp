@@ -126,6 +126,16 @@ TEST(StripTear, AnisotropicCrackSurfaceSteersCracksOntoThirtyDegreeFibers) {
   EXPECT_LT(angle_between(m.angle_degrees, -30), 10);
 }
 
+// A strip or slab scene with the sharp-crack recipe of docs/materials.md: crack fields and
+// surface_anisotropy 100, with the sampling `seed` and the damage `solver`.
+nlohmann::json sharp_cracks(nlohmann::json doc, int seed, const std::string& solver) {
+  doc = with(std::move(doc), solver, 0.02);
+  doc["seed"] = seed;
+  doc["damage"]["split_fields"] = true;
+  doc["materials"]["m"]["damage"]["surface_anisotropy"] = 100;
+  return doc;
+}
+
 TEST(StripTear, CrackFieldsWithAnisotropicSurfaceKeepSlidingCracksSharpAndOnTheFibers) {
   // The strip as the issue gives it (no notch), with crack fields (split_fields) and
   // surface_anisotropy 100 together: the crack surface steers the crack onto the fibers and the
@@ -138,11 +148,7 @@ TEST(StripTear, CrackFieldsWithAnisotropicSurfaceKeepSlidingCracksSharpAndOnTheF
   // at a grip's edge and ends at 10.5): seed 2 2.5 / 2.5 spacings, -30 degrees seed 3 2.5 / 2.5
   // (at -28.2 degrees). Without both: 7-7.5 spacings and growing; 30 degrees at 0.
   auto sharp = [](double degrees, int seed, const std::string& solver) {
-    nlohmann::json doc = with(strip(degrees), solver, 0.02);
-    doc["seed"] = seed;
-    doc["damage"]["split_fields"] = true;
-    doc["materials"]["m"]["damage"]["surface_anisotropy"] = 100;
-    return doc;
+    return sharp_cracks(strip(degrees), seed, solver);
   };
   auto sharp_band = [](const std::vector<CrackFigures>& c, const std::string& what) {
     ASSERT_GT(c[1].fraction, 0.02) << what << ": the strip did not crack";
@@ -175,11 +181,7 @@ TEST(StripTear, CrackFieldsWithAnisotropicSurfaceRunFromANotchAlongThirtyDegreeF
   // term alone: 22-24 degrees). Measured at frame 15: seed 2 explicit 32.0 degrees, 2.0
   // spacings, 1.4 % cracked; implicit 30.0, 2.5, 1.7 %; -30 degrees seed 3 -30.0, 1.5.
   auto notched = [](double degrees, int seed, const std::string& solver) {
-    nlohmann::json doc = with(testing::notched_strip(degrees), solver, 0.02);
-    doc["seed"] = seed;
-    doc["damage"]["split_fields"] = true;
-    doc["materials"]["m"]["damage"]["surface_anisotropy"] = 100;
-    return doc;
+    return sharp_cracks(testing::notched_strip(degrees), seed, solver);
   };
   for (const auto& [degrees, seed, solver] :
        {std::tuple<double, int, const char*>{30, 2, "explicit"},
@@ -266,11 +268,8 @@ TEST(StripTear, CrackFieldsWithAnisotropicSurfaceKeepSlidingCracksSharpIn3D) {
   // Measured at frames 14 / 16: explicit 61.9 degrees, 2.55 / 2.55 spacings, 8.2 / 8.5 %
   // cracked; implicit 59.8 degrees, 2.55 / 2.55, 9.2 / 9.6 %; |n_z| 0.08-0.09. The paper's (one
   // field, beta 0; `tear run` of the same scene): 40 degrees, 7.0 / 6.4 spacings, 24 / 28 %.
-  nlohmann::json doc = slab(60, false);
-  doc["damage"]["split_fields"] = true;
-  doc["materials"]["m"]["damage"]["surface_anisotropy"] = 100;
   for (const char* solver : {"explicit", "implicit"}) {
-    doc["damage"]["solver"] = solver;
+    const nlohmann::json doc = sharp_cracks(slab(60, false), 1, solver);
     const std::vector<CrackFigures> c = tear<3>(parse_scene(doc, "slab.json"), {14, 16}, solver);
     ASSERT_GT(c[1].fraction, 0.03) << solver << ": the slab did not crack";
     EXPECT_LT(angle_between(line_degrees(c[1]), 60), 10) << solver << ": " << line_degrees(c[1]);
