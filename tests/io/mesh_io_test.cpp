@@ -5,10 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <filesystem>
+#include <utility>
 #include <limits>
 #include <string>
 
 #include "io_fixture.h"
+#include "tear/io/atomic_file.h"
 
 namespace tear {
 namespace {
@@ -142,6 +145,76 @@ TEST(MeshIo, EncodersRejectIndicesOutOfRange) {
   m.triangles.push_back({0, 1, 4});
   EXPECT_THROW(encode_obj(m), std::runtime_error);
   EXPECT_THROW(encode_mesh_ply(m), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace tear
+
+namespace tear {
+namespace {
+
+TEST(MeshIo, StlRoundTripGivesEachTriangleItsOwnVertices) {
+  const TriMesh m = awkward_mesh();
+  const std::string bytes = encode_stl(m);
+  ASSERT_EQ(bytes.size(), 84u + 50u * m.triangles.size());
+  const TriMesh back = decode_stl(bytes);
+  ASSERT_EQ(back.triangles.size(), m.triangles.size());
+  ASSERT_EQ(back.vertices.size(), 3 * m.triangles.size());
+  for (size_t t = 0; t < m.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(back.triangles[t][k], int32_t(3 * t + k));
+      EXPECT_EQ(back.vertices[3 * t + k], m.vertices[size_t(m.triangles[t][k])]);
+    }
+  // A binary file whose header happens to start with "solid" is still read as binary.
+  std::string solid_header = bytes;
+  solid_header.replace(0, 6, "solid ");
+  EXPECT_EQ(decode_stl(solid_header).triangles.size(), m.triangles.size());
+}
+
+TEST(MeshIo, ReadsAsciiStlAndNamesItsErrors) {
+  const std::string text =
+      "solid two\n"
+      "  facet normal 0 0 1\n    outer loop\n      vertex 0 0 0\n      vertex 1 0 0\n"
+      "      vertex 0 1 0\n    endloop\n  endfacet\n"
+      "  facet normal 0 0 1\n    outer loop\n      vertex 1 0 0\n      vertex 1 1 0\n"
+      "      vertex 0 1 0.5e0\n    endloop\n  endfacet\n"
+      "endsolid two\n";
+  const TriMesh m = decode_stl(text);
+  ASSERT_EQ(m.triangles.size(), 2u);
+  EXPECT_EQ(m.vertices[5], Eigen::Vector3f(0, 1, 0.5f));
+  EXPECT_EQ(error_of(decode_stl, "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 q\n"),
+            "bad STL: vertex 0 needs three numbers, got 'q'");
+  EXPECT_EQ(error_of(decode_stl, "solid x\nvertex 0 0 0\nvertex 1 0 0\nendsolid\n"),
+            "bad STL: 2 vertices, not a whole number of triangles");
+  EXPECT_EQ(error_of(decode_stl, "hello"),
+            "bad STL: neither binary (5 bytes do not match its triangle count) nor ascii (no "
+            "'solid')");
+}
+
+TEST(MeshIo, ReadMeshFileChoosesByExtensionAndNamesTheFile) {
+  const std::string dir = ::testing::TempDir() + "tear_mesh_io_read";
+  std::filesystem::create_directories(dir);
+  TriMesh m;
+  m.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  m.triangles = {{0, 1, 2}};
+  for (const auto& [name, bytes] : {std::pair<std::string, std::string>{"a.obj", encode_obj(m)},
+                                    {"a.PLY", encode_mesh_ply(m)}, {"a.stl", encode_stl(m)}}) {
+    write_file_atomic(dir + "/" + name, bytes);
+    EXPECT_EQ(read_mesh_file(dir + "/" + name).triangles.size(), 1u) << name;
+  }
+  auto error = [](const std::string& path) {
+    try {
+      read_mesh_file(path);
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(error(dir + "/a.off"), "'" + dir + "/a.off': unknown mesh format '.off' (expected .obj, .ply or .stl)");
+  EXPECT_EQ(error(dir + "/missing.obj").rfind(dir + "/missing.obj: cannot open", 0), 0u);
+  write_file_atomic(dir + "/bad.obj", "v 0 0\n");
+  EXPECT_EQ(error(dir + "/bad.obj"),
+            "'" + dir + "/bad.obj': bad OBJ: line 1: vertex needs three numbers ('v 0 0')");
 }
 
 }  // namespace

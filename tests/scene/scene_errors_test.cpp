@@ -369,6 +369,9 @@ std::vector<BrokenScene> broken_scenes() {
       patched("CgIterationsRemoved", R"({"damage": {"cg_max_iterations": 5}})",
               "damage.cg_max_iterations: replaced by damage.max_iterations (the implicit damage "
               "solver is no longer a CG solve on the grid)"),
+      // mesh shapes are 3D only (the rest of their errors: mesh_object_test.cpp)
+      patched("MeshShapeIn2D", shape_object(R"({"type": "mesh", "file": "bunny.obj"})"),
+              "objects[0].shape.type: \"mesh\" needs a 3D scene (dim 3)"),
       // --- recognised by SCENE_FORMAT.md, not implemented yet: refused, never ignored
       patched("ImplicitIntegrator", R"({"integrator": "implicit"})",
               "integrator: \"implicit\": not implemented yet"),
@@ -385,8 +388,6 @@ std::vector<BrokenScene> broken_scenes() {
       patched("InextensibilityRelaxation",
               R"({"materials": {"jelly": {"inextensibility_relaxation": 0.5}}})",
               "materials.jelly.inextensibility_relaxation: not implemented yet"),
-      patched("MeshShape", shape_object(R"({"type": "mesh", "file": "bunny.obj"})"),
-              "objects[0].shape.type: \"mesh\": not implemented yet"),
       patched("ParticlesShape", shape_object(R"({"type": "particles", "file": "points.ply"})"),
               "objects[0].shape.type: \"particles\": not implemented yet"),
       patched("FlowFibers",

@@ -42,4 +42,13 @@ inline std::string write_temp(const std::string& name, const std::string& text) 
   return p.string();
 }
 
+// A fresh file `name` in folder `dir` holding `text`.
+inline std::string write_temp_in(const std::string& dir, const std::string& name,
+                                 const std::string& text) {
+  std::filesystem::create_directories(dir);
+  const std::filesystem::path p = std::filesystem::path(dir) / name;
+  std::ofstream(p) << text;
+  return p.string();
+}
+
 }  // namespace tear::test

@@ -57,6 +57,8 @@ double local_sdf(const Shape& s, const Vec3d& q) {
       double len = n.norm();
       return len > 0 ? (q - flatten(s.point, s.dim)).dot(n) / len : 0.0;
     }
+    case Shape::Type::Mesh:
+      return s.mesh->signed_distance(q);
   }
   return 0.0;
 }
@@ -84,6 +86,9 @@ void local_bounds(const Shape& s, Vec3d* lo, Vec3d* hi) {
       *lo = Vec3d::Constant(-std::numeric_limits<double>::infinity());
       *hi = -*lo;
       break;
+    case Shape::Type::Mesh:
+      *lo = s.mesh->lo(), *hi = s.mesh->hi();
+      break;
   }
 }
 
@@ -94,12 +99,19 @@ double Shape::sdf(const Vec3d& p) const {
   return transform.scale * local_sdf(*this, q);
 }
 
+bool Shape::inside(const Vec3d& p) const {
+  if (type == Type::Mesh) return mesh->inside(transform.to_local(flatten(p, dim)));
+  return sdf(p) <= 0;
+}
+
 Vec3d Shape::normal_at(const Vec3d& p) const {
   Vec3d x = flatten(p, dim);
   if (type == Type::HalfSpace) {
     Vec3d n = flatten(transform.rotate * flatten(normal, dim), dim);
     return n.norm() > 0 ? Vec3d(n.normalized()) : Vec3d::UnitY();
   }
+  if (type == Type::Mesh)
+    return flatten(transform.rotate * mesh->normal(transform.to_local(x)), dim);
   // Central differences; the step is small relative to the shape's size.
   Vec3d lo, hi;
   bounds(&lo, &hi);
@@ -138,6 +150,7 @@ Vec3d Shape::world_center() const {
   switch (type) {
     case Type::Box: c = 0.5 * (min + max); break;
     case Type::HalfSpace: c = point; break;
+    case Type::Mesh: c = 0.5 * (mesh->lo() + mesh->hi()); break;
     default: c = center; break;
   }
   return flatten(transform.to_world(flatten(c, dim)), dim);

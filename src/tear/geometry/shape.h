@@ -3,9 +3,12 @@
 // Geometry is always 3D double; 2D shapes use z = 0 and ignore the third axis.
 #pragma once
 
+#include "tear/geometry/mesh_solid.h"
 #include "tear/math/types.h"
 
 #include <Eigen/Geometry>
+
+#include <memory>
 
 namespace tear {
 
@@ -19,7 +22,7 @@ struct ShapeTransform {
 };
 
 struct Shape {
-  enum class Type { Box, Sphere, Cylinder, Tube, HalfSpace };
+  enum class Type { Box, Sphere, Cylinder, Tube, HalfSpace, Mesh };
   Type type = Type::Box;
   int dim = 3;
   // box
@@ -31,13 +34,16 @@ struct Shape {
   // half_space: a point on the plane and the outward normal of the solid side's boundary;
   // the solid occupies {x : (x - point) . normal <= 0}.
   Vec3d point = Vec3d::Zero(), normal = Vec3d::UnitY();
+  // mesh (3D only): the closed surface, in the shape's local frame; shared by copies.
+  std::shared_ptr<const MeshSolid> mesh;
   ShapeTransform transform;
 
-  // Signed distance (negative inside), in world units. Exact for box/sphere/half_space,
+  // Signed distance (negative inside), in world units. Exact for box/sphere/half_space/mesh,
   // exact up to the transform's uniform scale for the others.
   double sdf(const Vec3d& p) const;
-  bool inside(const Vec3d& p) const { return sdf(p) <= 0; }
-  // Outward unit normal (gradient of sdf) at p.
+  // Whether p is in the solid (sdf <= 0; for a mesh, its winding number test alone).
+  bool inside(const Vec3d& p) const;
+  // Outward unit normal (gradient of sdf) at p: finite differences, or a mesh's own normal.
   Vec3d normal_at(const Vec3d& p) const;
   // World-space axis-aligned bounds (half_space: infinite).
   void bounds(Vec3d* lo, Vec3d* hi) const;

@@ -91,7 +91,7 @@ void apply_colliders(SparseGrid<Dim>& grid, ContactType walls,
       const Collider& col = colliders[c];
       const Vec3d centre = s.center0 + s.displacement;
       const Vec3d q = s.center0 + s.rotation.transpose() * (p - centre);
-      if (col.shape.sdf(q) > 0) continue;
+      if (!col.shape.inside(q)) continue;
       const Vec3d n3 = s.rotation * col.shape.normal_at(q);
       const Vec3d vw3 = col.velocity + col.angular_velocity.cross(p - centre);
       v = contact_velocity<Dim>(v, vw3.template head<Dim>().template cast<Real>(),

@@ -1,12 +1,17 @@
 #include "tear/io/mesh_io.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
+#include <cctype>
 #include <charconv>
+#include <filesystem>
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
 #include <stdexcept>
 
+#include "tear/io/atomic_file.h"
 #include "tear/io/endian.h"
 #include "tear/io/numbers.h"
 #include "tear/io/ply_header.h"
@@ -216,6 +221,90 @@ TriMesh decode_mesh_ply(const std::string& bytes) {
     }
   }
   return mesh;
+}
+
+std::string encode_stl(const TriMesh& mesh) {
+  check_indices(mesh, "STL");
+  std::string out(80, ' ');
+  out.replace(0, 15, "written by tear");
+  append_le(&out, uint32_t(mesh.triangles.size()));
+  for (const auto& t : mesh.triangles) {
+    const Eigen::Vector3f a = mesh.vertices[size_t(t[0])], b = mesh.vertices[size_t(t[1])],
+                          c = mesh.vertices[size_t(t[2])];
+    const Eigen::Vector3f n = (b - a).cross(c - a).normalized();
+    for (const Eigen::Vector3f& v : {n, a, b, c})
+      for (int k = 0; k < 3; ++k) append_le(&out, v[k]);
+    append_le(&out, uint16_t(0));
+  }
+  return out;
+}
+
+TriMesh decode_stl(const std::string& bytes) {
+  TriMesh mesh;
+  // Binary when the size matches the count (some binary files also start with "solid").
+  if (bytes.size() >= 84) {
+    const uint32_t count = load_le<uint32_t>(bytes.data() + 80);
+    if (bytes.size() == 84 + 50 * uint64_t(count)) {
+      mesh.vertices.reserve(3 * size_t(count));
+      for (uint32_t t = 0; t < count; ++t) {
+        const char* p = bytes.data() + 84 + 50 * size_t(t) + 12;  // after the normal
+        for (int k = 0; k < 3; ++k) {
+          Eigen::Vector3f v;
+          for (int a = 0; a < 3; ++a) v[a] = load_le<float>(p + 12 * k + 4 * a);
+          mesh.vertices.push_back(v);
+        }
+        const int32_t i = int32_t(3 * t);
+        mesh.triangles.push_back({i, i + 1, i + 2});
+      }
+      return mesh;
+    }
+  }
+  std::istringstream in(bytes);
+  std::string word;
+  if (!(in >> word) || word != "solid")
+    throw std::runtime_error("bad STL: neither binary (" + std::to_string(bytes.size()) +
+                             " bytes do not match its triangle count) nor ascii (no 'solid')");
+  // Ascii: only "vertex x y z" lines carry data; every third vertex closes a triangle.
+  size_t vertex_lines = 0;
+  while (in >> word) {
+    if (word == "endsolid") break;
+    if (word != "vertex") continue;
+    Eigen::Vector3f v;
+    for (int a = 0; a < 3; ++a) {
+      std::string value;
+      in >> value;
+      char* end = nullptr;
+      v[a] = std::strtof(value.c_str(), &end);
+      if (value.empty() || *end != '\0')
+        throw std::runtime_error("bad STL: vertex " + std::to_string(vertex_lines) +
+                                 " needs three numbers, got '" + value + "'");
+    }
+    mesh.vertices.push_back(v);
+    if (++vertex_lines % 3 == 0) {
+      const int32_t i = int32_t(vertex_lines - 3);
+      mesh.triangles.push_back({i, i + 1, i + 2});
+    }
+  }
+  if (vertex_lines % 3 != 0)
+    throw std::runtime_error("bad STL: " + std::to_string(vertex_lines) +
+                             " vertices, not a whole number of triangles");
+  return mesh;
+}
+
+TriMesh read_mesh_file(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (ext != ".obj" && ext != ".ply" && ext != ".stl")
+    throw std::runtime_error("'" + path + "': unknown mesh format '" + ext +
+                             "' (expected .obj, .ply or .stl)");
+  const std::string bytes = read_file(path);
+  try {
+    if (ext == ".obj") return decode_obj(bytes);
+    if (ext == ".ply") return decode_mesh_ply(bytes);
+    return decode_stl(bytes);
+  } catch (const std::exception& e) {
+    throw std::runtime_error("'" + path + "': " + e.what());
+  }
 }
 
 }  // namespace tear

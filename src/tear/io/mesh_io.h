@@ -1,4 +1,5 @@
-// io/: triangle meshes on disk (OBJ, and PLY with a face element), as `tear mesh` writes them.
+// io/: triangle meshes on disk: OBJ and PLY with a face element, as `tear mesh` writes them,
+// and STL; read for mesh objects (scene "mesh" shapes).
 #pragma once
 
 #include <Eigen/Core>
@@ -26,5 +27,14 @@ std::string encode_mesh_ply(const TriMesh& mesh);
 // with the reason (and the line or face) on malformed input.
 TriMesh decode_obj(const std::string& text);
 TriMesh decode_mesh_ply(const std::string& bytes);
+// Binary STL (80-byte header, triangle count, 50 bytes a triangle); each triangle gets three
+// vertices of its own, as in the format.
+std::string encode_stl(const TriMesh& mesh);
+// Binary or ascii STL ("solid ... facet ... outer loop vertex x y z ... endsolid"): three
+// vertices per triangle, none shared (MeshSolid merges equal ones); facet normals ignored.
+TriMesh decode_stl(const std::string& bytes);
+// A mesh file by its extension (.obj, .ply or .stl, any case): read_file, then the decoder.
+// Errors name the file.
+TriMesh read_mesh_file(const std::string& path);
 
 }  // namespace tear

@@ -3,11 +3,13 @@
 // "rotate" degrees counter-clockwise about z; in 3D, "rotate": {"axis": [x,y,z], "angle_deg": a}
 // (right-handed axis-angle).
 #include "tear/geometry/shape.h"
+#include "tear/io/mesh_io.h"
 #include "tear/scene/scene_parts.h"
 
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <filesystem>
 
 namespace tear::scene_detail {
 
@@ -64,6 +66,36 @@ double positive_number(const Reader& r, const json& obj, const std::string& path
   return v;
 }
 
+// The closed mesh of a "mesh" shape: "file" is relative to the scene file's folder; the
+// resolved scene keeps its absolute path.
+std::shared_ptr<const MeshSolid> read_mesh(const Reader& r, const json& j, const std::string& path,
+                                           json* out) {
+  namespace fs = std::filesystem;
+  const std::string fp = key_path(path, "file");
+  const std::string name = r.string(j, path, "file");
+  r.check(!name.empty(), fp, "must name a mesh file (.obj, .ply or .stl)");
+  fs::path file(name);
+  if (file.is_relative()) file = fs::absolute(fs::path(r.file()).parent_path() / file);
+  file = file.lexically_normal();
+  (*out)["file"] = file.string();
+  TriMesh mesh;
+  try {
+    mesh = read_mesh_file(file.string());
+  } catch (const std::exception& e) {
+    r.fail(fp, e.what());
+  }
+  std::vector<Vec3d> vertices(mesh.vertices.size());
+  for (size_t v = 0; v < vertices.size(); ++v) vertices[v] = mesh.vertices[v].cast<double>();
+  std::vector<std::array<int, 3>> triangles(mesh.triangles.size());
+  for (size_t t = 0; t < triangles.size(); ++t)
+    triangles[t] = {mesh.triangles[t][0], mesh.triangles[t][1], mesh.triangles[t][2]};
+  try {
+    return std::make_shared<const MeshSolid>(vertices, triangles, "mesh '" + file.string() + "'");
+  } catch (const std::exception& e) {
+    r.fail(fp, "'" + file.string() + "' " + e.what());
+  }
+}
+
 }  // namespace
 
 json parse_shape(const Reader& r, const json& j, const std::string& path, bool allow_half_space,
@@ -72,7 +104,8 @@ json parse_shape(const Reader& r, const json& j, const std::string& path, bool a
   int type = r.choice(j, path, "type",
                       {"box", "sphere", "cylinder", "tube", "half_space", "mesh", "particles"});
   std::string tp = key_path(path, "type");
-  if (type >= 5) r.fail(tp, "\"" + j["type"].get<std::string>() + "\": not implemented yet");
+  if (type == 6) r.fail(tp, "\"particles\": not implemented yet");
+  if (type == 5 && r.dim != 3) r.fail(tp, "\"mesh\" needs a 3D scene (dim 3)");
   if (type == 4 && !allow_half_space)
     r.fail(tp, "\"half_space\" is only allowed for boundaries (objects must be bounded)");
   switch (type) {
@@ -83,6 +116,7 @@ json parse_shape(const Reader& r, const json& j, const std::string& path, bool a
       r.object(j, path,
                {"type", "center", "axis", "radius", "inner_radius", "height", "transform"});
       break;
+    case 5: r.object(j, path, {"type", "file", "transform"}); break;
     default: r.object(j, path, {"type", "point", "normal", "transform"}); break;
   }
   *s = Shape();
@@ -112,6 +146,8 @@ json parse_shape(const Reader& r, const json& j, const std::string& path, bool a
                   num_str(s->inner_radius));
       out["inner_radius"] = s->inner_radius;
     }
+  } else if (type == 5) {
+    s->mesh = read_mesh(r, j, path, &out);
   } else {
     s->point = r.vec(j, path, "point");
     out["point"] = vec_json(s->point, r.dim);
