@@ -41,6 +41,89 @@ double tube_sdf(const Vec3d& p, const Shape& s, double inner) {
   return outside + std::min(std::max(qa, qr), 0.0);
 }
 
+// Exact signed distance in the plane from q to the simple polygon v[0..n) (any orientation):
+// the nearest edge's distance, negative inside (crossing number).
+double polygon_sdf(const Eigen::Vector2d* v, int n, const Eigen::Vector2d& q) {
+  double d2 = std::numeric_limits<double>::infinity();
+  bool inside = false;
+  for (int i = 0, j = n - 1; i < n; j = i++) {
+    const Eigen::Vector2d e = v[i] - v[j], w = q - v[j];
+    const double t = std::clamp(w.dot(e) / e.squaredNorm(), 0.0, 1.0);
+    d2 = std::min(d2, (w - t * e).squaredNorm());
+    if ((v[i].y() > q.y()) != (v[j].y() > q.y()) &&
+        q.x() < v[j].x() + (q.y() - v[j].y()) * e.x() / e.y())
+      inside = !inside;
+  }
+  return inside ? -std::sqrt(d2) : std::sqrt(d2);
+}
+
+// Coordinates of q about the shape's centre and axis: along the axis, and the distance from it.
+Eigen::Vector2d meridian(const Shape& s, const Vec3d& q) {
+  const Vec3d axis = unit_axis(s), d = q - flatten(s.center, s.dim);
+  const double a = d.dot(axis);
+  return Eigen::Vector2d(a, (d - a * axis).norm());
+}
+
+// Cone / frustum / tapered tube: a solid of revolution whose meridian section is the
+// quadrilateral between the inner and outer radius lines; its 2D distance there is the exact
+// 3D distance (with a solid cone, the section mirrored across the axis, so that the axis is
+// inside rather than a boundary). In 2D the same section is the shape.
+double cone_sdf(const Shape& s, const Vec3d& q) {
+  const double h = 0.5 * s.height;
+  const bool hollow = s.inner_radius > 0 || s.inner_radius_top > 0;
+  const Eigen::Vector2d quad[4] = {
+      {-h, hollow ? s.inner_radius : -s.radius}, {-h, s.radius}, {h, s.radius_top},
+      {h, hollow ? s.inner_radius_top : -s.radius_top}};
+  return polygon_sdf(quad, 4, meridian(s, q));
+}
+
+// Torus: the distance to the circle of radius R about the axis, less the tube's radius.
+double torus_sdf(const Shape& s, const Vec3d& q) {
+  const Eigen::Vector2d m = meridian(s, q);
+  return std::hypot(m.y() - s.radius, m.x()) - s.tube_radius;
+}
+
+// Wedge of a ball or spherical shell between two half-planes through the axis (angle <= pi);
+// in 2D a sector of a disk or annulus. Inside the azimuth range the nearest boundary point is
+// radial (same azimuth) or on a face; outside it, the nearest point is on a face: a half-annulus
+// {rho' >= 0, ri <= |(a, rho')| <= R} in the face's half-plane (the shell has no local minimum
+// of distance off p's azimuth), in 2D the segment [ri, R] along the face.
+double wedge_sdf(const Shape& s, const Vec3d& q) {
+  const Vec3d axis = s.dim == 2 ? Vec3d::UnitZ() : unit_axis(s);
+  Vec3d dir = flatten(s.direction, s.dim);
+  dir = (dir - dir.dot(axis) * axis).normalized();
+  const Vec3d side = axis.cross(dir);
+  const Vec3d d = q - flatten(s.center, s.dim);
+  const double a = d.dot(axis), x = d.dot(dir), y = d.dot(side);
+  const double r = d.norm(), half = 0.5 * s.angle;
+  const double shell = std::max(r - s.radius, s.inner_radius - r);  // < 0 between the spheres
+  // Each face: the unit vector along it (in the plane normal to the axis) and its normal.
+  double face_min = std::numeric_limits<double>::infinity(), plane_max = -face_min;
+  for (const double sign : {-1.0, 1.0}) {
+    const double c = std::cos(half), sn = sign * std::sin(half);
+    const double along = x * c + y * sn;          // rho' in the face's half-plane
+    const double off = sign * (y * c - x * sn);   // > 0 beyond this face
+    plane_max = std::max(plane_max, off);
+    // 2D distance to the half-annulus in the face's half-plane, then with the offset.
+    double in_plane;
+    if (s.dim == 2) {  // the face is the segment [ri, R] along it (a = 0)
+      in_plane = std::max({along - s.radius, s.inner_radius - along, 0.0});
+    } else if (along >= 0) {
+      const double rr = std::hypot(a, along);
+      in_plane = std::max({rr - s.radius, s.inner_radius - rr, 0.0});
+    } else {
+      const double aa = std::abs(a);
+      const double gap = aa > s.radius ? aa - s.radius : aa < s.inner_radius ? s.inner_radius - aa : 0;
+      in_plane = std::hypot(along, gap);
+    }
+    face_min = std::min(face_min, std::hypot(in_plane, off));
+  }
+  if (plane_max > 0) return face_min;  // outside the azimuth range
+  // Within it: outside the shell, the radial distance; inside, the nearest boundary piece.
+  if (shell > 0) return shell;
+  return std::max(shell, plane_max);
+}
+
 // Signed distance in the shape's local frame (before transform).
 double local_sdf(const Shape& s, const Vec3d& q) {
   switch (s.type) {
@@ -59,6 +142,12 @@ double local_sdf(const Shape& s, const Vec3d& q) {
     }
     case Shape::Type::Mesh:
       return s.mesh->signed_distance(q);
+    case Shape::Type::Cone:
+      return cone_sdf(s, q);
+    case Shape::Type::Torus:
+      return torus_sdf(s, q);
+    case Shape::Type::Wedge:
+      return wedge_sdf(s, q);
   }
   return 0.0;
 }
@@ -73,15 +162,28 @@ void local_bounds(const Shape& s, Vec3d* lo, Vec3d* hi) {
       *lo = s.center - Vec3d::Constant(s.radius), *hi = s.center + Vec3d::Constant(s.radius);
       break;
     case Shape::Type::Cylinder:
-    case Shape::Type::Tube: {
-      // Extent of a capped cylinder along coordinate i: |a_i| h/2 + R sqrt(1 - a_i^2).
+    case Shape::Type::Tube:
+    case Shape::Type::Cone: {
+      // Extent of a capped cylinder along coordinate i: |a_i| h/2 + R sqrt(1 - a_i^2) (a cone
+      // lies in the cylinder of its larger radius).
       Vec3d a = unit_axis(s), e;
+      const double R = s.type == Shape::Type::Cone ? std::max(s.radius, s.radius_top) : s.radius;
       for (int i = 0; i < 3; ++i)
-        e[i] = std::abs(a[i]) * 0.5 * s.height +
-               s.radius * std::sqrt(std::max(0.0, 1.0 - a[i] * a[i]));
+        e[i] = std::abs(a[i]) * 0.5 * s.height + R * std::sqrt(std::max(0.0, 1.0 - a[i] * a[i]));
       *lo = s.center - e, *hi = s.center + e;
       break;
     }
+    case Shape::Type::Torus: {
+      // Extent along coordinate i: R sqrt(1 - a_i^2) + r.
+      Vec3d a = unit_axis(s), e;
+      for (int i = 0; i < 3; ++i)
+        e[i] = s.radius * std::sqrt(std::max(0.0, 1.0 - a[i] * a[i])) + s.tube_radius;
+      *lo = s.center - e, *hi = s.center + e;
+      break;
+    }
+    case Shape::Type::Wedge:
+      *lo = s.center - Vec3d::Constant(s.radius), *hi = s.center + Vec3d::Constant(s.radius);
+      break;
     case Shape::Type::HalfSpace:
       *lo = Vec3d::Constant(-std::numeric_limits<double>::infinity());
       *hi = -*lo;

@@ -22,15 +22,25 @@ struct ShapeTransform {
 };
 
 struct Shape {
-  enum class Type { Box, Sphere, Cylinder, Tube, HalfSpace, Mesh };
+  enum class Type { Box, Sphere, Cylinder, Tube, HalfSpace, Mesh, Cone, Torus, Wedge };
   Type type = Type::Box;
   int dim = 3;
   // box
   Vec3d min = Vec3d::Zero(), max = Vec3d::Zero();
-  // sphere (disk in 2D), cylinder, tube: centre; cylinder/tube: unit axis, height along it
+  // sphere (disk in 2D), cylinder, tube, cone, torus, wedge: centre; cylinder, tube, cone,
+  // torus, wedge: unit axis; cylinder, tube, cone: height along it, centred on the centre.
   Vec3d center = Vec3d::Zero();
   Vec3d axis = Vec3d::UnitX();
   double radius = 0, inner_radius = 0, height = 0;
+  // cone: radius and inner_radius at the bottom (-height/2 along the axis), these at the top
+  // (+height/2), linear in between (inner radii 0: a solid cone or frustum).
+  double radius_top = 0, inner_radius_top = 0;
+  // torus: the tube's radius about the circle of `radius` around the axis.
+  double tube_radius = 0;
+  // wedge: the part of the ball (shell with inner_radius) between two half-planes through the
+  // axis, `angle` radians apart, symmetric about `direction` (a unit vector normal to the axis).
+  double angle = 0;
+  Vec3d direction = Vec3d::UnitY();
   // half_space: a point on the plane and the outward normal of the solid side's boundary;
   // the solid occupies {x : (x - point) . normal <= 0}.
   Vec3d point = Vec3d::Zero(), normal = Vec3d::UnitY();

@@ -61,7 +61,9 @@ json parse_fibers(const Reader& r, const json& obj, const std::string& opath, co
   f->center = r.vec(*j, path, "center", shape.world_center());
   out["center"] = vec_json(f->center, r.dim);
   Vec3d axis_def = r.dim == 3 ? Vec3d::UnitZ() : Vec3d::UnitX();
-  if (shape.type == Shape::Type::Cylinder || shape.type == Shape::Type::Tube) {
+  if (shape.type == Shape::Type::Cylinder || shape.type == Shape::Type::Tube ||
+      shape.type == Shape::Type::Cone || shape.type == Shape::Type::Torus ||
+      (shape.type == Shape::Type::Wedge && r.dim == 3)) {
     axis_def = shape.transform.rotate * shape.axis;
     if (r.dim == 2) axis_def.z() = 0;
   }

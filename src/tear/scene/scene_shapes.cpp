@@ -8,8 +8,10 @@
 
 #include <Eigen/Geometry>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 
 namespace tear::scene_detail {
 
@@ -96,15 +98,85 @@ std::shared_ptr<const MeshSolid> read_mesh(const Reader& r, const json& j, const
   }
 }
 
+// An entry pair [bottom, top] (or one number for both) at obj[key]; `def` when absent.
+std::array<double, 2> end_pair(const Reader& r, const json& obj, const std::string& path,
+                               const char* key, std::optional<double> def) {
+  const json* v = r.find(obj, key);
+  const std::string p = key_path(path, key);
+  if (!v) {
+    if (!def) r.fail(p, "required");
+    return {*def, *def};
+  }
+  if (!v->is_array()) {
+    const double x = r.as_number(*v, p);
+    return {x, x};
+  }
+  if (v->size() != 2)
+    r.fail(p, "must be a number or [bottom, top], got " + entries(v->size()));
+  return {r.as_number((*v)[0], key_path(p, "0")), r.as_number((*v)[1], key_path(p, "1"))};
+}
+
+// cone, torus and wedge: their keys, checked, into s and the resolved `out`.
+void parse_round_shape(const Reader& r, const json& j, const std::string& path, Shape* s,
+                       json* out) {
+  s->center = r.vec(j, path, "center");
+  (*out)["center"] = vec_json(s->center, r.dim);
+  if (s->type != Shape::Type::Wedge || r.dim == 3) s->axis = unit_vec(r, j, path, "axis", out);
+  if (s->type == Shape::Type::Cone) {
+    s->height = positive_number(r, j, path, "height", out);
+    const auto outer = end_pair(r, j, path, "radius", std::nullopt);
+    const auto inner = end_pair(r, j, path, "inner_radius", 0.0);
+    for (int e = 0; e < 2; ++e) {
+      const std::string end = e == 0 ? "bottom" : "top";
+      r.check(outer[size_t(e)] > 0, key_path(path, "radius"),
+              "must be > 0 at both ends, got " + num_str(outer[size_t(e)]) + " at the " + end);
+      r.check(inner[size_t(e)] >= 0 && inner[size_t(e)] < outer[size_t(e)],
+              key_path(path, "inner_radius"),
+              "must be in [0, radius) at both ends, got " + num_str(inner[size_t(e)]) +
+                  " at the " + end + " (radius " + num_str(outer[size_t(e)]) + ")");
+    }
+    s->radius = outer[0], s->radius_top = outer[1];
+    s->inner_radius = inner[0], s->inner_radius_top = inner[1];
+    (*out)["radius"] = {outer[0], outer[1]};
+    (*out)["inner_radius"] = {inner[0], inner[1]};
+  } else if (s->type == Shape::Type::Torus) {
+    s->radius = positive_number(r, j, path, "radius", out);
+    s->tube_radius = positive_number(r, j, path, "tube_radius", out);
+    r.check(s->tube_radius < s->radius, key_path(path, "tube_radius"),
+            "must be < radius = " + num_str(s->radius) + " (a torus with a hole), got " +
+                num_str(s->tube_radius));
+  } else {
+    s->radius = positive_number(r, j, path, "radius", out);
+    s->inner_radius = r.number(j, path, "inner_radius", 0.0);
+    r.check(s->inner_radius >= 0 && s->inner_radius < s->radius, key_path(path, "inner_radius"),
+            "must be in [0, radius = " + num_str(s->radius) + "), got " + num_str(s->inner_radius));
+    (*out)["inner_radius"] = s->inner_radius;
+    const double deg = r.number(j, path, "angle_deg");
+    r.check(deg > 0 && deg <= 180, key_path(path, "angle_deg"),
+            "must be in (0, 180] degrees, got " + num_str(deg));
+    s->angle = deg * kPi / 180;
+    (*out)["angle_deg"] = deg;
+    const Vec3d axis = r.dim == 3 ? s->axis : Vec3d::UnitZ();
+    if (r.dim == 2) s->axis = axis;
+    const Vec3d dir = r.vec(j, path, "direction");
+    r.check((dir - dir.dot(axis) * axis).norm() > 1e-9 * dir.norm(), key_path(path, "direction"),
+            "must not be parallel to the axis (it points to the middle of the wedge)");
+    s->direction = dir;
+    (*out)["direction"] = vec_json(dir, r.dim);
+  }
+}
+
 }  // namespace
 
 json parse_shape(const Reader& r, const json& j, const std::string& path, bool allow_half_space,
                  Shape* s) {
   if (!j.is_object()) r.fail(path, "must be an object, got " + type_desc(j));
+  // In Shape::Type's order; "particles" last.
   int type = r.choice(j, path, "type",
-                      {"box", "sphere", "cylinder", "tube", "half_space", "mesh", "particles"});
+                      {"box", "sphere", "cylinder", "tube", "half_space", "mesh", "cone", "torus",
+                       "wedge", "particles"});
   std::string tp = key_path(path, "type");
-  if (type == 6) r.fail(tp, "\"particles\": not implemented yet");
+  if (type == 9) r.fail(tp, "\"particles\": not implemented yet");
   if (type == 5 && r.dim != 3) r.fail(tp, "\"mesh\" needs a 3D scene (dim 3)");
   if (type == 4 && !allow_half_space)
     r.fail(tp, "\"half_space\" is only allowed for boundaries (objects must be bounded)");
@@ -117,6 +189,20 @@ json parse_shape(const Reader& r, const json& j, const std::string& path, bool a
                {"type", "center", "axis", "radius", "inner_radius", "height", "transform"});
       break;
     case 5: r.object(j, path, {"type", "file", "transform"}); break;
+    case 6:
+      r.object(j, path,
+               {"type", "center", "axis", "radius", "inner_radius", "height", "transform"});
+      break;
+    case 7: r.object(j, path, {"type", "center", "axis", "radius", "tube_radius", "transform"}); break;
+    case 8:
+      if (r.dim == 3)
+        r.object(j, path,
+                 {"type", "center", "axis", "direction", "radius", "inner_radius", "angle_deg",
+                  "transform"});
+      else
+        r.object(j, path,
+                 {"type", "center", "direction", "radius", "inner_radius", "angle_deg", "transform"});
+      break;
     default: r.object(j, path, {"type", "point", "normal", "transform"}); break;
   }
   *s = Shape();
@@ -148,6 +234,8 @@ json parse_shape(const Reader& r, const json& j, const std::string& path, bool a
     }
   } else if (type == 5) {
     s->mesh = read_mesh(r, j, path, &out);
+  } else if (type >= 6) {
+    parse_round_shape(r, j, path, s, &out);
   } else {
     s->point = r.vec(j, path, "point");
     out["point"] = vec_json(s->point, r.dim);
