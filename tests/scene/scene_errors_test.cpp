@@ -270,9 +270,9 @@ std::vector<BrokenScene> broken_scenes() {
               "objects[0].shape: lies outside the grid domain along axis 0 (shape spans [1.5, 2], "
               "domain [0, 1])"),
       // --- shapes
-      patched("UnknownShapeType", shape_object(R"({"type": "torus"})"),
-              "objects[0].shape.type: unknown value \"torus\" (expected one of: box, sphere, "
-              "cylinder, tube, half_space, mesh, particles)"),
+      patched("UnknownShapeType", shape_object(R"({"type": "donut"})"),
+              "objects[0].shape.type: unknown value \"donut\" (expected one of: box, sphere, "
+              "cylinder, tube, half_space, mesh, cone, torus, wedge, particles)"),
       patched("ShapeTypeMissing", shape_object(R"({"center": [0.5, 0.5]})"),
               "objects[0].shape.type: required"),
       patched("SphereRadiusNegative",

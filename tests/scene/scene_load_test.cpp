@@ -113,6 +113,34 @@ TEST(SceneLoad, DamageSolverDefaultFollowsTheMaterials) {
   EXPECT_EQ(parse_scene(doc, "rich.json").damage.solver, DamageSolver::None);
 }
 
+// qr_aniso's energy lambda: lambda_Lame + mu by default; lambda_Lame itself with "paper".
+TEST(SceneLoad, LambdaConventionPaperTakesTheLameLambdaAsItIs) {
+  json doc = rich_scene_3d();
+  const auto meat = [](const Scene& s) {
+    return std::find_if(s.materials.begin(), s.materials.end(),
+                        [](const MaterialSpec& m) { return m.name == "meat"; })
+        ->params;
+  };
+  const double mu = 100 / (2 * 1.25), lame = 100 * 0.25 / (1.25 * 0.5);
+  const Scene tear_default = parse_scene(doc, "rich.json");
+  EXPECT_NEAR(meat(tear_default).lambda, lame + mu, 1e-12);
+  EXPECT_EQ(tear_default.resolved["materials"]["meat"]["lambda_convention"], "small_strain");
+  doc["materials"]["meat"]["lambda_convention"] = "paper";
+  const Scene paper = parse_scene(doc, "rich.json");
+  EXPECT_NEAR(meat(paper).lambda, lame, 1e-12);
+  EXPECT_NEAR(meat(paper).mu, mu, 1e-12);
+  EXPECT_NEAR(meat(paper).kx, 50 * mu, 1e-12);
+  EXPECT_EQ(paper.resolved["materials"]["meat"]["lambda_convention"], "paper");
+  doc["materials"]["bone"]["lambda_convention"] = "paper";
+  EXPECT_EQ(test::scene_error(doc), "broken.json: materials.bone.lambda_convention: \"paper\" is "
+                                    "only for qr_aniso (the other models use the Lame lambda of "
+                                    "E, nu either way)");
+  doc["materials"]["bone"].erase("lambda_convention");
+  doc["materials"]["meat"]["lambda_convention"] = "lame";
+  EXPECT_NE(test::scene_error(doc).find("materials.meat.lambda_convention: unknown value \"lame\""),
+            std::string::npos);
+}
+
 // output.formats accepts every point format io/ can write, in the order given.
 TEST(SceneLoad, EveryPointFormatIsAccepted) {
   json doc = rich_scene_3d();

@@ -67,8 +67,8 @@ MaterialSpec parse_material(const Reader& r, const std::string& name, const json
                             json* out) {
   std::string path = key_path("materials", name);
   r.object(m, path,
-           {"model", "E", "nu", "rho", "fiber_scale", "damage", "plasticity", "inextensible",
-            "inextensibility_relaxation"});
+           {"model", "E", "nu", "rho", "fiber_scale", "lambda_convention", "damage", "plasticity",
+            "inextensible", "inextensibility_relaxation"});
   MaterialSpec spec;
   spec.name = name;
   std::string model_str = r.string(m, path, "model");
@@ -115,6 +115,15 @@ MaterialSpec parse_material(const Reader& r, const std::string& name, const json
   spec.fiber_scale[0] = Real(fs[0]);
   spec.fiber_scale[1] = Real(fs[1]);
   spec.params = make_material(model, Real(E), Real(nu), Real(rho), Real(fs[0]), Real(fs[1]));
+  // qr_aniso's energy lambda: tear's lambda_Lame + mu (small strains match E, nu) or, with
+  // "paper", lambda_Lame itself, as the paper's code and Table 1 use it.
+  const int convention = r.choice(m, path, "lambda_convention", {"small_strain", "paper"}, 0);
+  if (convention == 1) {
+    r.check(model == Model::QrAniso, key_path(path, "lambda_convention"),
+            "\"paper\" is only for qr_aniso (the other models use the Lame lambda of E, nu "
+            "either way)");
+    spec.params.lambda = lame_lambda(Real(E), Real(nu));
+  }
 
   json damage = parse_damage_spec(r, m, path, &spec.damage);
   if (const json* p = r.find(m, "plasticity")) {
@@ -134,7 +143,9 @@ MaterialSpec parse_material(const Reader& r, const std::string& name, const json
   json fsj = json::array();
   for (int i = 0; i < nfs; ++i) fsj.push_back(fs[i]);
   *out = {{"model", model_str}, {"E", E},          {"nu", nu},
-          {"rho", rho},         {"fiber_scale", fsj}, {"damage", damage},
+          {"rho", rho},         {"fiber_scale", fsj},
+          {"lambda_convention", convention == 1 ? "paper" : "small_strain"},
+          {"damage", damage},
           {"plasticity", nullptr}, {"inextensible", false}};
   return spec;
 }
