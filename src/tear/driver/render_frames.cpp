@@ -48,9 +48,12 @@ RenderLook look_of(const Scene& s) {
     }
   // Spheres just touching on the sampling lattice: radius half the particle spacing.
   std::vector<int> ppc(s.materials.size(), 0);
-  for (const ObjectSpec& o : s.objects)
-    if (o.material >= 0 && size_t(o.material) < ppc.size())
-      ppc[size_t(o.material)] = std::max(ppc[size_t(o.material)], o.ppc);
+  for (const ObjectSpec& o : s.objects) {
+    std::vector<int> materials = {o.material};
+    for (const RegionSpec& r : o.regions) materials.push_back(r.material);
+    for (int m : materials)
+      if (m >= 0 && size_t(m) < ppc.size()) ppc[size_t(m)] = std::max(ppc[size_t(m)], o.ppc);
+  }
   for (size_t m = 0; m < s.materials.size(); ++m) {
     const int n = ppc[m] > 0 ? ppc[m] : default_ppc(s.dim);  // a material no object uses
     look.material_radius.push_back(0.5 * particle_spacing(s, n));

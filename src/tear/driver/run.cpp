@@ -328,8 +328,13 @@ int check_scene(const std::string& scene_path, const std::vector<std::string>& o
     for (size_t i = 0; i < s.objects.size(); ++i) {
       const ObjectSpec& ob = s.objects[i];
       out << "object     " << i << ": " << objects.at(i).at("shape").at("type").get<std::string>()
-          << ", material " << s.materials[size_t(ob.material)].name << ", " << ob.ppc
-          << " particles per cell" << (ob.grid_sampling ? " (lattice)" : "") << "\n";
+          << ", material " << s.materials[size_t(ob.material)].name;
+      for (const RegionSpec& r : ob.regions)
+        out << " (" << s.materials[size_t(r.material)].name << " in a "
+            << objects.at(i).at("regions").at(&r - ob.regions.data()).at("shape").at("type").get<std::string>()
+            << ")";
+      out << ", " << ob.ppc << " particles per cell" << (ob.grid_sampling ? " (lattice)" : "")
+          << "\n";
     }
     out << "boundaries walls " << s.resolved.at("grid").at("walls").get<std::string>() << ", "
         << s.boundaries.size() << " collider(s)";

@@ -217,7 +217,6 @@ Particles<Dim> sample_scene(const Scene& scene) {
   parallel_for(cells.size(), [&](size_t k) {
     const Cell& cell = cells[k];
     const ObjectSpec& o = scene.objects[cell.object];
-    const MaterialSpec& mat = scene.materials[o.material];
     const Vec3d center = o.shape.world_center(), w = o.angular_velocity;
     size_t i = cell.first;
     cell_samples<Dim>(scene, cell.object, cell.c, [&](const Vec3d& p, uint64_t key, int s) {
@@ -227,10 +226,18 @@ Particles<Dim> sample_scene(const Scene& scene) {
       out.id[i] = uint32_t(i);
       out.x[i] = p.head<Dim>().template cast<Real>();
       out.v[i] = vel.head<Dim>().template cast<Real>();
-      out.fiber[i] = fiber_frame_at<Dim>(o.fibers, p, hash_combine(key, uint64_t(s)));
-      out.mass[i] = Real(mat.params.rho * cell_vol / o.ppc);
+      // The first region that holds p decides its material and fibers; none: the object's.
+      int material = o.material;
+      const FiberSpec* fibers = &o.fibers;
+      for (const RegionSpec& region : o.regions)
+        if (region.shape.inside(p)) {
+          material = region.material, fibers = &region.fibers;
+          break;
+        }
+      out.fiber[i] = fiber_frame_at<Dim>(*fibers, p, hash_combine(key, uint64_t(s)));
+      out.mass[i] = Real(scene.materials[size_t(material)].params.rho * cell_vol / o.ppc);
       out.vol0[i] = Real(cell_vol / o.ppc);
-      out.material[i] = uint16_t(o.material);
+      out.material[i] = uint16_t(material);
       ++i;
     });
   });

@@ -48,6 +48,14 @@ struct MaterialSpec {
   bool inextensible = false;  // only false is accepted for now
 };
 
+// A region of an object: where the region's shape contains a particle of the object (and no
+// earlier region does), the particle gets the region's material and fibers.
+struct RegionSpec {
+  Shape shape;
+  int material = 0;  // index into Scene::materials
+  FiberSpec fibers;
+};
+
 struct ObjectSpec {
   Shape shape;
   int material = 0;            // index into Scene::materials
@@ -56,6 +64,7 @@ struct ObjectSpec {
   Vec3d velocity = Vec3d::Zero();
   Vec3d angular_velocity = Vec3d::Zero();  // about the shape's world centre; 2D uses z
   FiberSpec fibers;
+  std::vector<RegionSpec> regions;  // in priority order; particles in none keep the above
 };
 
 // Preview rendering defaults ("render" section) for `tear render` and `tear run --render`;

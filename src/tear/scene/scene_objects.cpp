@@ -74,10 +74,56 @@ json parse_fibers(const Reader& r, const json& obj, const std::string& opath, co
   return out;
 }
 
+// The index in scene.materials of the material named at obj["material"].
+int material_index(const Reader& r, const json& obj, const std::string& path, const Scene& scene,
+                   json* out) {
+  std::string mat = r.string(obj, path, "material");
+  (*out)["material"] = mat;
+  for (size_t i = 0; i < scene.materials.size(); ++i)
+    if (scene.materials[i].name == mat) return int(i);
+  std::string list;
+  for (const MaterialSpec& m : scene.materials) list += (list.empty() ? "" : ", ") + m.name;
+  r.fail(key_path(path, "material"),
+         "unknown material \"" + mat + "\" (defined: " + (list.empty() ? "none" : list) + ")");
+}
+
+// objects[].regions: [{shape, material, fibers}], each region's fibers defaulting to the
+// object's (the same field carries on into the region).
+json parse_regions(const Reader& r, const json& o, const std::string& path, const Scene& scene,
+                   const json& object_fibers, ObjectSpec* spec) {
+  json out = json::array();
+  const json* regions = r.find(o, "regions");
+  if (!regions) return out;
+  const std::string rp = key_path(path, "regions");
+  if (!regions->is_array()) r.fail(rp, "must be an array of {shape, material}, got " + type_desc(*regions));
+  for (size_t k = 0; k < regions->size(); ++k) {
+    const json& g = (*regions)[k];
+    const std::string gp = index_path(rp, k);
+    if (!g.is_object()) r.fail(gp, "must be an object {shape, material}, got " + type_desc(g));
+    r.object(g, gp, {"shape", "material", "fibers"});
+    RegionSpec region;
+    json gout;
+    const json* sj = r.find(g, "shape");
+    if (!sj) r.fail(key_path(gp, "shape"), "required");
+    gout["shape"] = parse_shape(r, *sj, key_path(gp, "shape"), true, &region.shape);
+    region.material = material_index(r, g, gp, scene, &gout);
+    if (r.find(g, "fibers")) {
+      gout["fibers"] = parse_fibers(r, g, gp, region.shape, &region.fibers);
+    } else {
+      region.fibers = spec->fibers;
+      gout["fibers"] = object_fibers;
+    }
+    spec->regions.push_back(region);
+    out.push_back(gout);
+  }
+  return out;
+}
+
 json parse_object(const Reader& r, const json& o, const std::string& path, const Scene& scene,
                   ObjectSpec* spec) {
   r.object(o, path,
-           {"shape", "material", "ppc", "sampling", "velocity", "angular_velocity", "fibers"});
+           {"shape", "material", "ppc", "sampling", "velocity", "angular_velocity", "fibers",
+            "regions"});
   json out;
   const json* sj = r.find(o, "shape");
   if (!sj) r.fail(key_path(path, "shape"), "required");
@@ -91,17 +137,7 @@ json parse_object(const Reader& r, const json& o, const std::string& path, const
                 num_str(lo[i]) + ", " + num_str(hi[i]) + "], domain [" +
                 num_str(scene.domain_min[i]) + ", " + num_str(scene.domain_max[i]) + "])");
 
-  std::string mat = r.string(o, path, "material");
-  spec->material = -1;
-  for (size_t i = 0; i < scene.materials.size(); ++i)
-    if (scene.materials[i].name == mat) spec->material = int(i);
-  if (spec->material < 0) {
-    std::string list;
-    for (const MaterialSpec& m : scene.materials) list += (list.empty() ? "" : ", ") + m.name;
-    r.fail(key_path(path, "material"),
-           "unknown material \"" + mat + "\" (defined: " + (list.empty() ? "none" : list) + ")");
-  }
-  out["material"] = mat;
+  spec->material = material_index(r, o, path, scene, &out);
 
   long long ppc = r.integer(o, path, "ppc", default_ppc(r.dim));
   r.check(ppc >= 1 && ppc <= 4096, key_path(path, "ppc"),
@@ -118,6 +154,7 @@ json parse_object(const Reader& r, const json& o, const std::string& path, const
   out["velocity"] = vec_json(spec->velocity, r.dim);
   spec->angular_velocity = angular_velocity(r, o, path, &out);
   out["fibers"] = parse_fibers(r, o, path, spec->shape, &spec->fibers);
+  out["regions"] = parse_regions(r, o, path, scene, out["fibers"], spec);
   return out;
 }
 
