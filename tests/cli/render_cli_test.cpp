@@ -116,6 +116,35 @@ TEST_F(RenderCli, RunRenderRendersEveryWrittenFrameAndResumes) {
   EXPECT_FALSE(fs::exists(path("part/preview.mp4")));  // --no-video
 }
 
+// --space rest: every particle at its frame-0 position. Coloured by material (the same in every
+// frame), a later frame in rest space is frame 0's picture, outside the caption; in world space
+// it is not (the disk has fallen and spun).
+TEST_F(RenderCli, RestSpaceDrawsEachParticleAtItsFrameZeroPosition) {
+  const std::string run = run_folder();
+  // One fixed camera (the fitted ones differ: world space also frames where the colliders go,
+  // which moves the ground too).
+  const std::string opts = std::string(kSmall) +
+                           " --color material --no-video -q --camera-position 0.5,0.45,2.5 "
+                           "--camera-target 0.5,0.45,0";
+  ASSERT_EQ(tear("render " + run + opts + " --space rest"), 0) << err_;
+  const Image rest0 = picture(run + "/render/00000.png"), rest4 = picture(run + "/render/00004.png");
+  ASSERT_EQ(tear("render " + run + opts), 0) << err_;
+  const Image world0 = picture(run + "/render/00000.png"), world4 = picture(run + "/render/00004.png");
+  // Below the caption (the top 24 rows) pixel for pixel.
+  auto rows = [](const Image& im, int from) {
+    return std::vector<uint8_t>(im.rgb.begin() + 3 * from * im.width, im.rgb.end());
+  };
+  EXPECT_EQ(rows(rest4, 24), rows(rest0, 24));
+  EXPECT_NE(rows(world4, 24), rows(world0, 24));
+  // --frames without 0 still takes the rest positions from frame 0.
+  ASSERT_EQ(tear("render " + run + opts + " --space rest --frames 4"), 0) << err_;
+  EXPECT_EQ(rows(picture(run + "/render/00004.png"), 24), rows(rest0, 24));
+  // Rest space needs frame 0.
+  fs::remove(run + "/frames/00000.ply");
+  EXPECT_EQ(tear("render " + run + opts + " --space rest --frames 4"), 1);
+  EXPECT_NE(err_.find("no frame 0 to take the rest positions from"), std::string::npos) << err_;
+}
+
 TEST_F(RenderCli, MissingFfmpegWarnsAndKeepsThePictures) {
   const std::string run = run_folder();
   const char* old = std::getenv("PATH");

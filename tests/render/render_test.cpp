@@ -145,6 +145,34 @@ TEST(FitStage, CameraSeesEveryParticle) {
   }
 }
 
+// Points the picture must also hold (where colliders pull torn pieces) are inside it too, and
+// widen the view only as much as they need.
+TEST(FitStage, CameraAlsoSeesTheGivenReach) {
+  for (int dim : {2, 3}) {
+    const PointTable frame = block(10, dim);
+    const RenderLook look = look_for(dim, 0.01);
+    RenderSettings s;
+    s.width = 320, s.height = 180;
+    const std::vector<Vector3d> reach = {Vector3d(0.5, 8.0, 0.5), Vector3d(-6.0, -0.5, 0.5)};
+    const Stage alone = fit_stage(frame, look, s), wide = fit_stage(frame, look, s, reach);
+    for (const Vector3d& p : reach) {
+      double px = -1, py = -1;
+      ASSERT_TRUE(wide.camera.project(p, &px, &py));
+      EXPECT_TRUE(px >= 0 && px < s.width && py >= 0 && py < s.height) << dim << " " << p.transpose();
+      const bool seen_alone = alone.camera.project(p, &px, &py) && px >= 0 && px < s.width &&
+                              py >= 0 && py < s.height;
+      EXPECT_FALSE(seen_alone) << dim;  // the reach is what made it fit
+    }
+    for (size_t i = 0; i < frame.count; ++i) {
+      double px = -1, py = -1;
+      ASSERT_TRUE(wide.camera.project(Vector3d(frame.column("x")[i], frame.column("y")[i],
+                                               frame.column("z")[i]), &px, &py));
+      EXPECT_TRUE(px >= 0 && px < s.width && py >= 0 && py < s.height);
+    }
+    EXPECT_EQ(fit_stage(frame, look, s, {}).camera.position, alone.camera.position);
+  }
+}
+
 TEST(FitStage, GivenCameraIsKept) {
   const PointTable frame = block(5);
   RenderSettings s;

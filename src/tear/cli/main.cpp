@@ -19,6 +19,7 @@ struct RenderArgs {
   std::string color;
   int width = 0, height = 0, samples = 0;
   bool surface = false, no_video = false;
+  std::string space = "world";
   std::vector<double> position, target, up;
   double fov = 0, radius = 0, velocity_max = 0;
 
@@ -62,6 +63,10 @@ struct RenderArgs {
                          "Speed at the top of the velocity colour map (default: the largest)")
              ->check(CLI::PositiveNumber));
     keep(cmd->add_flag("--no-video", no_video, "Write the pictures only, no preview.mp4"));
+    keep(cmd->add_option("--space", space,
+                         "world (default): particles where they are; rest: each particle at its "
+                         "frame-0 position, coloured as in the frame (damage in material space)")
+             ->check(CLI::IsMember({"world", "rest"})));
   }
 
   tear::RenderOverrides overrides() const {
@@ -84,6 +89,7 @@ struct RenderArgs {
     if (given("--radius")) o.radius = radius;
     if (given("--velocity-max")) o.velocity_max = velocity_max;
     o.video = !no_video;
+    o.rest_space = space == "rest";
     return o;
   }
 };

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "tear/grid/collider.h"
 #include "tear/io/atomic_file.h"
 #include "tear/io/frames.h"
 #include "tear/render/legend.h"
@@ -140,6 +141,33 @@ std::string encode_video(const std::string& dir, const std::vector<int>& frames,
   return "";
 }
 
+// Where the colliders go during the run: their boxes at 33 times from start to end (or the
+// run's end), clipped to the grid domain. A picture fitted before the run knows only frame 0;
+// torn pieces go where the colliders pull them.
+std::vector<Eigen::Vector3d> collider_reach(const Scene& s) {
+  std::vector<Eigen::Vector3d> out;
+  const double t_end = s.frames * s.frame_dt;
+  for (const Collider& c : s.boundaries) {
+    if (c.shape.type == Shape::Type::HalfSpace) continue;
+    Vec3d lo, hi;
+    c.shape.bounds(&lo, &hi);
+    const double t0 = std::max(0.0, c.start), t1 = std::min(t_end, c.end);
+    if (t1 < t0) continue;
+    for (int k = 0; k <= 32; ++k) {
+      const ColliderState st = collider_state(c, t0 + (t1 - t0) * k / 32);
+      for (int corner = 0; corner < 8; ++corner) {
+        const Vec3d q((corner & 1) ? hi.x() : lo.x(), (corner & 2) ? hi.y() : lo.y(),
+                      (corner & 4) ? hi.z() : lo.z());
+        Vec3d w = st.center0 + st.displacement + st.rotation * (q - st.center0);
+        for (int d = 0; d < 3; ++d)
+          w[d] = d < s.dim ? std::clamp(w[d], s.domain_min[d], s.domain_max[d]) : 0.0;
+        out.push_back(w);
+      }
+    }
+  }
+  return out;
+}
+
 // A frame sequence drawn with one camera.
 struct Sequence {
   std::string dir;
@@ -150,14 +178,49 @@ struct Sequence {
   double frame_dt = 1.0 / 24;
   bool auto_velocity = true;  // the velocity map's top follows the largest speed seen
   double top_speed = 0;
+  std::vector<Eigen::Vector3d> reach;  // what the picture must hold besides the first frame
+  bool rest_space = false;
+  std::optional<PointTable> rest;  // frame 0's id, x, y, z (rest space)
 
   Sequence(const std::string& d, const Scene& scene, const RenderOverrides& o)
       : dir(d), look(look_of(scene)), settings(settings_of(scene.render, o)) {
     frame_dt = scene.frame_dt;
     auto_velocity = !o.velocity_max;
+    rest_space = o.rest_space;
+    if (!rest_space) reach = collider_reach(scene);  // rest space stays where frame 0 is
   }
 
-  void fit(const PointTable& first) { stage = fit_stage(first, look, settings); }
+  // Keeps frame 0's positions for rest-space pictures.
+  void set_rest(const PointTable& frame0) {
+    if (!rest_space || rest) return;
+    rest.emplace();
+    rest->count = frame0.count;
+    for (const char* name : {"id", "x", "y", "z"})
+      if (frame0.has(name)) rest->add(name, ColumnType::Float64, frame0.column(name));
+  }
+
+  // The frame as drawn: in rest space, each particle at its frame-0 position (same ids, same
+  // order: frames list particles by id), with this frame's colours.
+  PointTable shown(int frame, const PointTable& table) const {
+    PointTable t = table;
+    if (!rest_space) return t;
+    if (!rest) throw std::runtime_error("rest space needs frame 0 of the run");
+    const bool same = table.count == rest->count &&
+                      (!table.has("id") || !rest->has("id") ||
+                       table.column("id") == rest->column("id"));
+    if (!same)
+      throw std::runtime_error("frame " + std::to_string(frame) +
+                               ": its particles are not those of frame 0 (ids differ), so it "
+                               "cannot be drawn in rest space");
+    for (size_t c = 0; c < t.names.size(); ++c)
+      if ((t.names[c] == "x" || t.names[c] == "y" || t.names[c] == "z") && rest->has(t.names[c]))
+        t.columns[c] = rest->column(t.names[c]);
+    return t;
+  }
+
+  void fit(int frame, const PointTable& first) {
+    stage = fit_stage(shown(frame, first), look, settings, reach);
+  }
 
   void see_speed(const PointTable& t) {
     if (auto_velocity && settings.color == ColorBy::Velocity)
@@ -165,9 +228,11 @@ struct Sequence {
   }
 
   void draw(int frame, const PointTable& table) {
-    if (!stage) fit(table);
+    if (!stage) fit(frame, table);
     if (auto_velocity) settings.velocity_max = top_speed > 0 ? top_speed : 1;
-    const Image image = renderer.render(table, look, *stage, settings, caption_of(frame, frame_dt));
+    const Image image = renderer.render(shown(frame, table), look, *stage, settings,
+                                        caption_of(frame, frame_dt) +
+                                            (rest_space ? "   REST SPACE" : ""));
     write_file_atomic(png_path(dir, frame), encode_png(image));
   }
 };
@@ -192,13 +257,19 @@ int render_frames(const RenderOptions& o) {
     Sequence seq(o.dir, scene, o.overrides);
     if (seq.settings.color == ColorBy::Velocity && seq.auto_velocity)
       for (const FrameFile& f : files) seq.see_speed(read_frame(f.path));  // the run's top speed
+    if (seq.rest_space) {
+      const std::vector<FrameFile> all = list_frames(o.dir);
+      if (all.empty() || all.front().frame != 0)
+        return fail(o.dir + ": no frame 0 to take the rest positions from (--space rest)");
+      seq.set_rest(read_frame(all.front().path));
+    }
     make_directories((fs::path(o.dir) / "render").string());
     const bool tty = ::isatty(STDERR_FILENO) != 0;
     std::vector<int> done;
     for (size_t i = 0; i < files.size(); ++i) {
       const PointTable table = read_frame(files[i].path);
       if (i == 0) {
-        seq.fit(table);
+        seq.fit(files[i].frame, table);
         if (!o.quiet) {
           const Camera& c = seq.stage->camera;
           std::fprintf(stderr, "camera %g,%g,%g  target %g,%g,%g  fov %g\n", c.position.x(),
@@ -264,7 +335,8 @@ void RunRenderer::resume(int frame) {
   for (const FrameFile& f : list_frames(seq.dir)) {
     if (f.frame > frame) break;
     const PointTable table = read_frame(f.path);
-    if (!seq.stage) seq.fit(table);  // frame 0: the camera of the uninterrupted run
+    if (f.frame == 0) seq.set_rest(table);
+    if (!seq.stage) seq.fit(f.frame, table);  // frame 0: the camera of the uninterrupted run
     seq.see_speed(table);
     if (!fs::exists(png_path(seq.dir, f.frame))) seq.draw(f.frame, table);
   }
@@ -273,6 +345,7 @@ void RunRenderer::resume(int frame) {
 void RunRenderer::render(int frame, const PointTable& table) {
   Sequence& seq = impl_->seq;
   if (!seq.stage) make_directories((fs::path(seq.dir) / "render").string());
+  if (frame == 0) seq.set_rest(table);
   seq.see_speed(table);
   seq.draw(frame, table);
 }

@@ -23,6 +23,7 @@ struct RenderOverrides {
   std::optional<double> radius;        // sphere radius of every particle
   std::optional<double> velocity_max;  // fixes the top of the velocity map
   bool video = true;                   // false: --no-video
+  bool rest_space = false;             // --space rest: particles at their frame-0 positions
 };
 
 struct RenderOptions {
@@ -38,7 +39,8 @@ struct RenderOptions {
 int render_frames(const RenderOptions& options);
 
 // Renders the frames of `tear run --render` as the run writes them, with the camera fitted on
-// frame 0, and makes the video at the end.
+// frame 0 and where the colliders go (later frames are not known yet), and makes the video at
+// the end.
 class RunRenderer {
  public:
   // Validates the settings (throws std::runtime_error on a bad override) before the run

@@ -56,10 +56,12 @@ struct Stage {
   Eigen::Vector3d center = Eigen::Vector3d::Zero();
 };
 
-// Fits the camera (unless the settings fix it) so that every particle of `first` is inside the
-// picture with a margin: 2D looks along -z at the plane, 3D from an elevated three-quarter view.
-// The ground goes on the highest floor below the body, else a little below its lowest point.
-Stage fit_stage(const PointTable& first, const RenderLook& look, const RenderSettings& settings);
+// Fits the camera (unless the settings fix it) so that every particle of `first`, and every
+// point of `also` (where later frames or the colliders reach), is inside the picture with a
+// margin: 2D looks along -z at the plane, 3D from an elevated three-quarter view. The ground
+// goes on the highest floor below all of it, else a little below its lowest point.
+Stage fit_stage(const PointTable& first, const RenderLook& look, const RenderSettings& settings,
+                const std::vector<Eigen::Vector3d>& also = {});
 
 // Sphere radius of each point (settings.radius, else by material).
 std::vector<float> particle_radii(const PointTable& frame, const RenderLook& look,

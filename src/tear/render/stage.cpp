@@ -79,7 +79,8 @@ double max_speed(const PointTable& frame) {
   return best;
 }
 
-Stage fit_stage(const PointTable& first, const RenderLook& look, const RenderSettings& settings) {
+Stage fit_stage(const PointTable& first, const RenderLook& look, const RenderSettings& settings,
+                const std::vector<Vector3d>& also) {
   const Vector3d up = look.up.normalized();
   const std::vector<float> radius = particle_radii(first, look, settings);
   // Points (with their radius) the picture must hold.
@@ -97,6 +98,12 @@ Stage fit_stage(const PointTable& first, const RenderLook& look, const RenderSet
     lo = lo.cwiseMin(p - Vector3d::Constant(r));
     hi = hi.cwiseMax(p + Vector3d::Constant(r));
     low = std::min(low, p.dot(up) - r);
+  }
+  for (const Vector3d& p : also) {
+    if (!p.allFinite()) continue;
+    points.push_back({p, 0});
+    lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    low = std::min(low, p.dot(up));
   }
   Stage stage;
   if (points.empty()) {  // nothing to frame: a unit box at the origin
