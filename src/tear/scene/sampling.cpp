@@ -100,6 +100,10 @@ Mat<Dim> fiber_frame_at(const FiberSpec& f, const Vec3d& p, uint64_t random_key)
       if (has_radial) a2_hint = radial;
       break;
     case FiberField::Random: a1 = random_unit(random_key, Dim); break;
+    // Never sampled as fields: flow is refused by the scene, and from_file points are framed
+    // from their own a1 (a2) as constant fields by the sampler.
+    case FiberField::Flow:
+    case FiberField::FromFile: a1 = f.a1; break;
   }
   if (Dim == 2) a1.z() = 0;
   if (!(a1.norm() > 0)) a1 = Vec3d::UnitX();
@@ -135,6 +139,7 @@ void for_each_cell(const Scene& scene, Fn&& fn) {
   for (int d = 0; d < Dim; ++d)
     ncell[d] = std::max(1, int(std::ceil((scene.domain_max[d] - scene.domain_min[d]) / dx - 1e-9)));
   for (size_t obj = 0; obj < scene.objects.size(); ++obj) {
+    if (scene.objects[obj].points) continue;  // read, not sampled
     Vec3d lo, hi;
     scene.objects[obj].shape.bounds(&lo, &hi);
     IVec<Dim> c0, c1;  // inclusive cell range overlapping the bounds and the domain
@@ -203,14 +208,24 @@ Particles<Dim> sample_scene(const Scene& scene) {
     IVec<Dim> c;
     size_t first;  // index of the cell's first particle
   };
+  // Objects in order; a "particles" object is one cell of all its points, in file order.
   std::vector<Cell> cells;
-  size_t n = 0;
+  size_t n = 0, next_object = 0;
+  auto add_points_before = [&](size_t obj) {
+    for (; next_object < obj; ++next_object)
+      if (const auto& pts = scene.objects[next_object].points) {
+        cells.push_back({next_object, IVec<Dim>::Zero(), n});
+        n += pts->x.size();
+      }
+  };
   for_each_cell<Dim>(scene, [&](size_t obj, const IVec<Dim>& c) {
+    add_points_before(obj);
     size_t count = 0;
     cell_samples<Dim>(scene, obj, c, [&](const Vec3d&, uint64_t, int) { ++count; });
     if (count) cells.push_back({obj, c, n});
     n += count;
   });
+  add_points_before(scene.objects.size());
   Particles<Dim> out;
   out.resize(n);
   const double cell_vol = std::pow(scene.dx, Dim);
@@ -219,14 +234,17 @@ Particles<Dim> sample_scene(const Scene& scene) {
     const ObjectSpec& o = scene.objects[cell.object];
     const Vec3d center = o.shape.world_center(), w = o.angular_velocity;
     size_t i = cell.first;
-    cell_samples<Dim>(scene, cell.object, cell.c, [&](const Vec3d& p, uint64_t key, int s) {
+    // One particle at p (the file's point `point`, or -1 for a sampled one).
+    auto add = [&](const Vec3d& p, uint64_t key, int s, long point) {
+      const PointSet* pts = point >= 0 ? o.points.get() : nullptr;
       const Vec3d r = p - center;
-      const Vec3d vel =
+      Vec3d vel =
           o.velocity + (Dim == 2 ? Vec3d(-w.z() * r.y(), w.z() * r.x(), 0) : Vec3d(w.cross(r)));
+      if (pts && !pts->v.empty()) vel = pts->v[size_t(point)];
       out.id[i] = uint32_t(i);
       out.x[i] = p.head<Dim>().template cast<Real>();
       out.v[i] = vel.head<Dim>().template cast<Real>();
-      // The first region that holds p decides its material and fibers; none: the object's.
+      // The file's material, else the first region that holds p, else the object's.
       int material = o.material;
       const FiberSpec* fibers = &o.fibers;
       for (const RegionSpec& region : o.regions)
@@ -234,12 +252,30 @@ Particles<Dim> sample_scene(const Scene& scene) {
           material = region.material, fibers = &region.fibers;
           break;
         }
+      if (pts && !pts->material.empty()) material = pts->material[size_t(point)];
+      FiberSpec own;  // from_file: the point's own fibers, framed as a constant field
+      if (fibers->type == FiberField::FromFile) {
+        own.a1 = pts->a1[size_t(point)].normalized();
+        own.has_a2 = !pts->a2.empty();
+        if (own.has_a2) own.a2 = pts->a2[size_t(point)];
+        fibers = &own;
+      }
       out.fiber[i] = fiber_frame_at<Dim>(*fibers, p, hash_combine(key, uint64_t(s)));
-      out.mass[i] = Real(scene.materials[size_t(material)].params.rho * cell_vol / o.ppc);
-      out.vol0[i] = Real(cell_vol / o.ppc);
+      const double volume =
+          pts && !pts->volume.empty() ? pts->volume[size_t(point)] : cell_vol / o.ppc;
+      out.mass[i] = Real(scene.materials[size_t(material)].params.rho * volume);
+      out.vol0[i] = Real(volume);
       out.material[i] = uint16_t(material);
       ++i;
-    });
+    };
+    if (o.points) {
+      const uint64_t key = hash_combine(hash_combine(0x7EA5ull, scene.seed), cell.object);
+      for (size_t k2 = 0; k2 < o.points->x.size(); ++k2)
+        add(o.points->x[k2], key, int(k2), long(k2));
+      return;
+    }
+    cell_samples<Dim>(scene, cell.object, cell.c,
+                      [&](const Vec3d& p, uint64_t key, int s) { add(p, key, s, -1); });
   });
   return out;
 }

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include <stdexcept>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -29,7 +30,9 @@ class SceneError : public std::runtime_error {
   std::string file_, path_, reason_;
 };
 
-enum class FiberField { Constant, Radial, Circumferential, Longitudinal, Random };
+// In the scene's order of names; Flow is recognised but refused; FromFile takes each point's
+// fibers from a "particles" object's file.
+enum class FiberField { Constant, Radial, Circumferential, Longitudinal, Random, Flow, FromFile };
 
 struct FiberSpec {
   FiberField type = FiberField::Constant;
@@ -46,6 +49,16 @@ struct MaterialSpec {
   Real fiber_scale[2] = {0, 0};
   DamageParams damage;
   bool inextensible = false;  // only false is accepted for now
+};
+
+// The points of a "particles" object, read from its PLY file: positions, and whatever else the
+// file has (empty: not in the file).
+struct PointSet {
+  std::vector<Vec3d> x;
+  std::vector<Vec3d> v;         // vx vy [vz]
+  std::vector<double> volume;   // volume (rest volume of each particle)
+  std::vector<int> material;    // material (index in name order)
+  std::vector<Vec3d> a1, a2;    // fx fy [fz], f2x f2y [f2z]
 };
 
 // A region of an object: where the region's shape contains a particle of the object (and no
@@ -65,6 +78,8 @@ struct ObjectSpec {
   Vec3d angular_velocity = Vec3d::Zero();  // about the shape's world centre; 2D uses z
   FiberSpec fibers;
   std::vector<RegionSpec> regions;  // in priority order; particles in none keep the above
+  // A "particles" object: its points (not sampled); `shape` is then their bounding box.
+  std::shared_ptr<const PointSet> points;
 };
 
 // Preview rendering defaults ("render" section) for `tear render` and `tear run --render`;

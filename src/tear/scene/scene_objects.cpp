@@ -1,4 +1,6 @@
 // "objects" and "boundaries" sections (SCENE_FORMAT.md).
+#include "tear/io/atomic_file.h"
+#include "tear/io/ply.h"
 #include "tear/scene/scene_parts.h"
 
 #include <cmath>
@@ -35,12 +37,11 @@ json parse_fibers(const Reader& r, const json& obj, const std::string& opath, co
                       {"constant", "radial", "circumferential", "longitudinal", "random", "flow",
                        "from_file"},
                       0);
-  if (type >= 5)
-    r.fail(key_path(path, "type"),
-           "\"" + (*j)["type"].get<std::string>() + "\": not implemented yet");
+  if (type == 5) r.fail(key_path(path, "type"), "\"flow\": not implemented yet");
   r.object(*j, path, {"type", "a1", "a2", "center", "axis"});
   f->type = FiberField(type);
-  const char* names[] = {"constant", "radial", "circumferential", "longitudinal", "random"};
+  const char* names[] = {"constant", "radial",   "circumferential", "longitudinal",
+                         "random",   "flow",     "from_file"};
   json out = {{"type", names[int(f->type)]}};
 
   Vec3d a1 = r.vec(*j, path, "a1", Vec3d::UnitX());
@@ -71,6 +72,85 @@ json parse_fibers(const Reader& r, const json& obj, const std::string& opath, co
   r.check(axis.norm() > 0, key_path(path, "axis"), "must be non-zero");
   f->axis = axis.normalized();
   out["axis"] = vec_json(axis, r.dim);
+  return out;
+}
+
+// A "particles" object's points from its PLY file (x y [z] and optional vx vy [vz], volume,
+// material, fx fy [fz], f2x f2y [f2z]); its shape becomes their bounding box.
+json parse_points(const Reader& r, const json& shape, const std::string& path, const Scene& scene,
+                  ObjectSpec* spec) {
+  r.object(shape, path, {"type", "file"});
+  json out = {{"type", "particles"}};
+  const std::string fp = key_path(path, "file");
+  const std::string file = scene_file(r, shape, path, &out);
+  PointTable t;
+  try {
+    t = decode_ply(read_file(file));
+  } catch (const std::exception& e) {
+    r.fail(fp, "'" + file + "': " + e.what());
+  }
+  auto bad = [&](const std::string& why) { r.fail(fp, "'" + file + "': " + why); };
+  if (t.count == 0) bad("has no points");
+  const int dim = r.dim;
+  const char* axes[] = {"x", "y", "z"};
+  // A vector column group (prefix + x, y[, z]): all of its dim columns, or none.
+  auto vectors = [&](const std::string& prefix, const std::string& what) {
+    std::vector<Vec3d> v;
+    int present = 0;
+    for (int d = 0; d < dim; ++d) present += t.has(prefix + axes[d]);
+    if (present == 0) return v;
+    if (present < dim)
+      bad(what + " needs the columns " + prefix + "x, " + prefix + "y" +
+          (dim == 3 ? ", " + prefix + "z" : "") + " (some are missing)");
+    v.assign(t.count, Vec3d::Zero());
+    for (int d = 0; d < dim; ++d) {
+      const std::vector<double>& c = t.column(prefix + axes[d]);
+      for (size_t i = 0; i < t.count; ++i) v[i][d] = c[i];
+    }
+    for (size_t i = 0; i < t.count; ++i)
+      if (!v[i].allFinite()) bad(what + " of point " + std::to_string(i) + " is not finite");
+    return v;
+  };
+  auto points = std::make_shared<PointSet>();
+  points->x = vectors("", "the position");
+  if (points->x.empty()) bad("has no x, y" + std::string(dim == 3 ? ", z" : "") + " columns");
+  points->v = vectors("v", "the velocity");
+  points->a1 = vectors("f", "the fiber a1");
+  points->a2 = vectors("f2", "the fiber a2");
+  for (size_t i = 0; i < t.count; ++i)
+    for (int d = 0; d < dim; ++d)
+      if (!(points->x[i][d] >= scene.domain_min[d] && points->x[i][d] <= scene.domain_max[d]))
+        bad("point " + std::to_string(i) + " (" + num_str(points->x[i][0]) + ", " +
+            num_str(points->x[i][1]) + (dim == 3 ? ", " + num_str(points->x[i][2]) : "") +
+            ") is outside the grid domain");
+  if (t.has("volume")) {
+    points->volume = t.column("volume");
+    for (size_t i = 0; i < t.count; ++i)
+      if (!(points->volume[i] > 0))
+        bad("the volume of point " + std::to_string(i) + " must be > 0, got " +
+            num_str(points->volume[i]));
+  }
+  if (t.has("material")) {
+    for (size_t i = 0; i < t.count; ++i) {
+      const double m = t.column("material")[i];
+      if (!(m >= 0 && m < double(scene.materials.size()) && m == std::floor(m)))
+        bad("the material of point " + std::to_string(i) + " is " + num_str(m) +
+            ", not the number of a material (0 to " + std::to_string(scene.materials.size() - 1) +
+            ", in name order)");
+      points->material.push_back(int(m));
+    }
+  }
+  for (size_t i = 0; i < points->a1.size(); ++i)
+    if (!(points->a1[i].norm() > 0)) bad("the fiber a1 of point " + std::to_string(i) + " is zero");
+  // The shape: the points' bounding box (fiber field centres, angular velocity, pictures).
+  Vec3d lo = points->x[0], hi = points->x[0];
+  for (const Vec3d& x : points->x) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+  spec->shape = Shape();
+  spec->shape.dim = dim;
+  spec->shape.type = Shape::Type::Box;
+  spec->shape.min = lo, spec->shape.max = hi;
+  spec->points = points;
+  out["points"] = t.count;
   return out;
 }
 
@@ -127,7 +207,10 @@ json parse_object(const Reader& r, const json& o, const std::string& path, const
   json out;
   const json* sj = r.find(o, "shape");
   if (!sj) r.fail(key_path(path, "shape"), "required");
-  out["shape"] = parse_shape(r, *sj, key_path(path, "shape"), false, &spec->shape);
+  if (sj->is_object() && sj->contains("type") && (*sj)["type"] == "particles")
+    out["shape"] = parse_points(r, *sj, key_path(path, "shape"), scene, spec);
+  else
+    out["shape"] = parse_shape(r, *sj, key_path(path, "shape"), false, &spec->shape);
   // Particles are kept only inside the grid domain: a shape wholly outside it samples nothing.
   Vec3d lo, hi;
   spec->shape.bounds(&lo, &hi);
@@ -154,6 +237,11 @@ json parse_object(const Reader& r, const json& o, const std::string& path, const
   out["velocity"] = vec_json(spec->velocity, r.dim);
   spec->angular_velocity = angular_velocity(r, o, path, &out);
   out["fibers"] = parse_fibers(r, o, path, spec->shape, &spec->fibers);
+  if (spec->fibers.type == FiberField::FromFile && (!spec->points || spec->points->a1.empty()))
+    r.fail(key_path(key_path(path, "fibers"), "type"),
+           "\"from_file\" needs a \"particles\" shape whose file has the columns fx, fy" +
+               std::string(r.dim == 3 ? ", fz" : "") + " (and f2x, f2y" +
+               (r.dim == 3 ? ", f2z" : "") + " for a second fiber)");
   out["regions"] = parse_regions(r, o, path, scene, out["fibers"], spec);
   return out;
 }

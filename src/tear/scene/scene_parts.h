@@ -16,6 +16,10 @@ json parse_objects(const Reader& r, const json& doc, Scene* scene);
 // "boundaries".
 json parse_boundaries(const Reader& r, const json& doc, Scene* scene);
 
+// The file named by j["file"] (required, non-empty), relative to the scene file's folder: its
+// absolute path, also recorded in (*out)["file"].
+std::string scene_file(const Reader& r, const json& j, const std::string& path, json* out);
+
 // ppc = k^dim for an integer k >= 1: returns k, else 0.
 int ppc_root(int ppc, int dim);
 

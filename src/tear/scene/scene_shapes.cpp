@@ -72,17 +72,11 @@ double positive_number(const Reader& r, const json& obj, const std::string& path
 // resolved scene keeps its absolute path.
 std::shared_ptr<const MeshSolid> read_mesh(const Reader& r, const json& j, const std::string& path,
                                            json* out) {
-  namespace fs = std::filesystem;
   const std::string fp = key_path(path, "file");
-  const std::string name = r.string(j, path, "file");
-  r.check(!name.empty(), fp, "must name a mesh file (.obj, .ply or .stl)");
-  fs::path file(name);
-  if (file.is_relative()) file = fs::absolute(fs::path(r.file()).parent_path() / file);
-  file = file.lexically_normal();
-  (*out)["file"] = file.string();
+  const std::string file = scene_file(r, j, path, out);
   TriMesh mesh;
   try {
-    mesh = read_mesh_file(file.string());
+    mesh = read_mesh_file(file);
   } catch (const std::exception& e) {
     r.fail(fp, e.what());
   }
@@ -92,11 +86,26 @@ std::shared_ptr<const MeshSolid> read_mesh(const Reader& r, const json& j, const
   for (size_t t = 0; t < triangles.size(); ++t)
     triangles[t] = {mesh.triangles[t][0], mesh.triangles[t][1], mesh.triangles[t][2]};
   try {
-    return std::make_shared<const MeshSolid>(vertices, triangles, "mesh '" + file.string() + "'");
+    return std::make_shared<const MeshSolid>(vertices, triangles, "mesh '" + file + "'");
   } catch (const std::exception& e) {
-    r.fail(fp, "'" + file.string() + "' " + e.what());
+    r.fail(fp, "'" + file + "' " + e.what());
   }
 }
+
+}  // namespace
+
+std::string scene_file(const Reader& r, const json& j, const std::string& path, json* out) {
+  namespace fs = std::filesystem;
+  const std::string name = r.string(j, path, "file");
+  r.check(!name.empty(), key_path(path, "file"), "must name a file");
+  fs::path file(name);
+  if (file.is_relative()) file = fs::absolute(fs::path(r.file()).parent_path() / file);
+  file = file.lexically_normal();
+  (*out)["file"] = file.string();
+  return file.string();
+}
+
+namespace {
 
 // An entry pair [bottom, top] (or one number for both) at obj[key]; `def` when absent.
 std::array<double, 2> end_pair(const Reader& r, const json& obj, const std::string& path,
@@ -176,7 +185,9 @@ json parse_shape(const Reader& r, const json& j, const std::string& path, bool a
                       {"box", "sphere", "cylinder", "tube", "half_space", "mesh", "cone", "torus",
                        "wedge", "particles"});
   std::string tp = key_path(path, "type");
-  if (type == 9) r.fail(tp, "\"particles\": not implemented yet");
+  if (type == 9)
+    r.fail(tp, allow_half_space ? "\"particles\" is only for objects (a collider needs a surface)"
+                                : "\"particles\" is read by the object, not as a shape");
   if (type == 5 && r.dim != 3) r.fail(tp, "\"mesh\" needs a 3D scene (dim 3)");
   if (type == 4 && !allow_half_space)
     r.fail(tp, "\"half_space\" is only allowed for boundaries (objects must be bounded)");
