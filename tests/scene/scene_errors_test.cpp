@@ -395,9 +395,13 @@ std::vector<BrokenScene> broken_scenes() {
       patched("InextensibilityRelaxation",
               R"({"materials": {"jelly": {"inextensibility_relaxation": 0.5}}})",
               "materials.jelly.inextensibility_relaxation: not implemented yet"),
-      patched("FlowFibers",
+      patched("FlowFibersWithoutSinks",
               sphere_object(R"(, "fibers": {"type": "flow", "sources": [[0.4, 0.5]]})"),
-              "objects[0].fibers.type: \"flow\": not implemented yet"),
+              "objects[0].fibers.sinks: required (an array of points)"),
+      patched("FlowFibersTakeNoCenter",
+              sphere_object(R"(, "fibers": {"type": "flow", "sources": [[0.4, 0.5]],
+                                             "sinks": [[0.6, 0.5]], "center": [0.5, 0.5]})"),
+              "objects[0].fibers.center: unknown key"),
       // --- --set overrides
       overridden("SetUnknownPath", {"materials.steel.E=1"},
                  "materials.steel.E: override \"materials.steel.E=1\": \"materials.steel\" does "

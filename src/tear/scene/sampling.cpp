@@ -6,10 +6,12 @@
 #include "tear/exec/parallel.h"
 
 #include "tear/geometry/shape.h"
+#include "tear/scene/flow_fibers.h"
 #include "tear/scene/scene_parts.h"
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 namespace tear {
 
@@ -226,6 +228,20 @@ Particles<Dim> sample_scene(const Scene& scene) {
     n += count;
   });
   add_points_before(scene.objects.size());
+  // Flow fibers: each such object's potential flow, solved once before the particles.
+  std::vector<std::unique_ptr<FlowField>> flows(scene.objects.size());
+  for (size_t k = 0; k < scene.objects.size(); ++k) {
+    const FiberSpec& f = scene.objects[k].fibers;
+    if (f.type != FiberField::Flow) continue;
+    try {
+      flows[k] = std::make_unique<FlowField>(scene.objects[k].shape, Dim, scene.dx, f.sources,
+                                             f.sinks,
+                                             f.flow_radius > 0 ? f.flow_radius : 2 * scene.dx);
+    } catch (const std::exception& e) {
+      throw std::runtime_error(scene.file + ": objects[" + std::to_string(k) +
+                               "].fibers: " + e.what());
+    }
+  }
   Particles<Dim> out;
   out.resize(n);
   const double cell_vol = std::pow(scene.dx, Dim);
@@ -253,8 +269,12 @@ Particles<Dim> sample_scene(const Scene& scene) {
           break;
         }
       if (pts && !pts->material.empty()) material = pts->material[size_t(point)];
-      FiberSpec own;  // from_file: the point's own fibers, framed as a constant field
-      if (fibers->type == FiberField::FromFile) {
+      FiberSpec own;  // flow, from_file: the point's own fibers, framed as a constant field
+      if (fibers->type == FiberField::Flow) {
+        own.a1 = flows[cell.object]->direction(p, fibers->a1);
+        own.has_a2 = fibers->has_a2, own.a2 = fibers->a2;
+        fibers = &own;
+      } else if (fibers->type == FiberField::FromFile) {
         own.a1 = pts->a1[size_t(point)].normalized();
         own.has_a2 = !pts->a2.empty();
         if (own.has_a2) own.a2 = pts->a2[size_t(point)];

@@ -30,8 +30,9 @@ class SceneError : public std::runtime_error {
   std::string file_, path_, reason_;
 };
 
-// In the scene's order of names; Flow is recognised but refused; FromFile takes each point's
-// fibers from a "particles" object's file.
+// In the scene's order of names. Flow: the directions of a potential flow from sources to
+// sinks (scene/flow_fibers.h); FromFile takes each point's fibers from a "particles" object's
+// file.
 enum class FiberField { Constant, Radial, Circumferential, Longitudinal, Random, Flow, FromFile };
 
 struct FiberSpec {
@@ -41,6 +42,10 @@ struct FiberSpec {
   bool has_a2 = false;
   Vec3d center = Vec3d::Zero(); // radial / circumferential / longitudinal reference point
   Vec3d axis = Vec3d::UnitZ();  // circumferential / longitudinal axis (3D; 2D uses z)
+  // flow (scene/flow_fibers.h): where the flow enters and leaves, and how near a cell must be
+  // to be held (0: two grid cells). a1 is the direction where the flow does not reach.
+  std::vector<Vec3d> sources, sinks;
+  double flow_radius = 0;
 };
 
 struct MaterialSpec {

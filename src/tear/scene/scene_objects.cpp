@@ -37,8 +37,10 @@ json parse_fibers(const Reader& r, const json& obj, const std::string& opath, co
                       {"constant", "radial", "circumferential", "longitudinal", "random", "flow",
                        "from_file"},
                       0);
-  if (type == 5) r.fail(key_path(path, "type"), "\"flow\": not implemented yet");
-  r.object(*j, path, {"type", "a1", "a2", "center", "axis"});
+  if (type == 5)
+    r.object(*j, path, {"type", "a1", "a2", "sources", "sinks", "radius"});
+  else
+    r.object(*j, path, {"type", "a1", "a2", "center", "axis"});
   f->type = FiberField(type);
   const char* names[] = {"constant", "radial",   "circumferential", "longitudinal",
                          "random",   "flow",     "from_file"};
@@ -58,6 +60,27 @@ json parse_fibers(const Reader& r, const json& obj, const std::string& opath, co
             "must not be parallel to a1");
     f->a2 = a2.normalized();
     out["a2"] = vec_json(a2, r.dim);
+  }
+  if (f->type == FiberField::Flow) {
+    for (const char* key : {"sources", "sinks"}) {
+      const std::string kp = key_path(path, key);
+      const json* list = r.find(*j, key);
+      if (!list) r.fail(kp, "required (an array of points)");
+      if (!list->is_array() || list->empty())
+        r.fail(kp, "must be a non-empty array of points, got " + type_desc(*list));
+      std::vector<Vec3d>& points = key[1] == 'o' ? f->sources : f->sinks;
+      json resolved = json::array();
+      for (size_t k = 0; k < list->size(); ++k) {
+        points.push_back(r.as_vec((*list)[k], index_path(kp, k), r.dim));
+        resolved.push_back(vec_json(points.back(), r.dim));
+      }
+      out[key] = resolved;
+    }
+    f->flow_radius = r.number(*j, path, "radius", 0.0);
+    r.check(f->flow_radius >= 0, key_path(path, "radius"),
+            "must be > 0 (or 0 for two grid cells), got " + num_str(f->flow_radius));
+    out["radius"] = f->flow_radius;
+    return out;
   }
   f->center = r.vec(*j, path, "center", shape.world_center());
   out["center"] = vec_json(f->center, r.dim);
@@ -189,6 +212,10 @@ json parse_regions(const Reader& r, const json& o, const std::string& path, cons
     region.material = material_index(r, g, gp, scene, &gout);
     if (r.find(g, "fibers")) {
       gout["fibers"] = parse_fibers(r, g, gp, region.shape, &region.fibers);
+      if (region.fibers.type == FiberField::Flow || region.fibers.type == FiberField::FromFile)
+        r.fail(key_path(key_path(gp, "fibers"), "type"),
+               "\"" + gout["fibers"]["type"].get<std::string>() +
+                   "\" is for whole objects (give it to the object; regions inherit it)");
     } else {
       region.fibers = spec->fibers;
       gout["fibers"] = object_fibers;
