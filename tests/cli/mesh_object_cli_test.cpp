@@ -13,12 +13,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-TriMesh trimesh(const test::TestMesh& m) {
-  TriMesh t;
-  for (const Vec3d& v : m.vertices) t.vertices.push_back(v.cast<float>());
-  for (const auto& tri : m.triangles) t.triangles.push_back({tri[0], tri[1], tri[2]});
-  return t;
-}
 
 class MeshObjectCli : public Cli {
  protected:
@@ -40,9 +34,9 @@ class MeshObjectCli : public Cli {
   void write_meshes() const {
     fs::create_directories(path("meshes"));
     write_file_atomic(path("meshes/torus.obj"),
-                      encode_obj(trimesh(test::torus_mesh(Vec3d(0.5, 0.5, 0.5), 0.25, 0.1, 32, 16))));
+                      encode_obj(test::to_trimesh(test::torus_mesh(Vec3d(0.5, 0.5, 0.5), 0.25, 0.1, 32, 16))));
     write_file_atomic(path("meshes/slab.stl"),
-                      encode_stl(trimesh(test::box_mesh(Vec3d(0.1, 0.1, 0.1), Vec3d(0.9, 0.9, 0.3)))));
+                      encode_stl(test::to_trimesh(test::box_mesh(Vec3d(0.1, 0.1, 0.1), Vec3d(0.9, 0.9, 0.3)))));
   }
 };
 
@@ -73,7 +67,7 @@ TEST_F(MeshObjectCli, MeshThatWindsTwiceFailsAndWritesNothing) {
   const test::TestMesh b = test::box_mesh(Vec3d(0.4, 0.3, 0.3), Vec3d(0.7, 0.6, 0.6));
   for (const Vec3d& v : b.vertices) both.vertices.push_back(v);
   for (const auto& t : b.triangles) both.triangles.push_back({t[0] + 8, t[1] + 8, t[2] + 8});
-  write_file_atomic(path("meshes/two.obj"), encode_obj(trimesh(both)));
+  write_file_atomic(path("meshes/two.obj"), encode_obj(test::to_trimesh(both)));
   json doc = mesh_scene();
   doc["objects"][0]["shape"] = {{"type", "mesh"}, {"file", "meshes/two.obj"}};
   const std::string s = write_scene(doc, "two.json");

@@ -2,6 +2,7 @@
 // here so that no test needs a file from elsewhere.
 #pragma once
 
+#include "tear/io/mesh_io.h"
 #include "tear/math/types.h"
 
 #include <array>
@@ -50,6 +51,14 @@ inline TestMesh torus_mesh(const Vec3d& center, double R, double r, int nu, int 
       m.triangles.push_back({a, c, d});
     }
   return m;
+}
+
+// As io/ stores meshes (float vertices), for writing test files.
+inline TriMesh to_trimesh(const TestMesh& m) {
+  TriMesh t;
+  for (const Vec3d& v : m.vertices) t.vertices.push_back(v.cast<float>());
+  for (const auto& tri : m.triangles) t.triangles.push_back({tri[0], tri[1], tri[2]});
+  return t;
 }
 
 }  // namespace tear::test

@@ -19,12 +19,6 @@ namespace {
 
 using json = nlohmann::json;
 
-TriMesh to_trimesh(const test::TestMesh& m) {
-  TriMesh t;
-  for (const Vec3d& v : m.vertices) t.vertices.push_back(v.cast<float>());
-  for (const auto& tri : m.triangles) t.triangles.push_back({tri[0], tri[1], tri[2]});
-  return t;
-}
 
 // A 3D scene in its own folder with one mesh object of file `mesh` (relative to the scene).
 json mesh_scene(const std::string& mesh, const std::string& sampling, int ppc) {
@@ -47,7 +41,7 @@ std::string folder() {
 // The torus about (0.5, 0.5, 0.5), R 0.3, r 0.12, in `file` under folder()/meshes/.
 double write_torus(const std::string& file) {
   const test::TestMesh torus = test::torus_mesh(Vec3d(0.5, 0.5, 0.5), 0.3, 0.12, 48, 24);
-  const TriMesh t = to_trimesh(torus);
+  const TriMesh t = test::to_trimesh(torus);
   const std::string path = folder() + "/meshes/" + file;
   const std::string ext = file.substr(file.size() - 3);
   write_file_atomic(path, ext == "obj" ? encode_obj(t) : ext == "stl" ? encode_stl(t)
@@ -126,7 +120,7 @@ std::string mesh_error(const std::string& mesh_text, const std::string& file, in
 TEST(MeshObjects, ErrorsNameTheSceneTheKeyAndTheMesh) {
   const std::string scene = folder() + "/broken.json", mesh = folder() + "/meshes/";
   const std::string key = scene + ": objects[0].shape.file: ";
-  const std::string cube = encode_obj(to_trimesh(test::box_mesh(Vec3d::Constant(0.2), Vec3d::Constant(0.6))));
+  const std::string cube = encode_obj(test::to_trimesh(test::box_mesh(Vec3d::Constant(0.2), Vec3d::Constant(0.6))));
   EXPECT_EQ(mesh_error(cube, "ok.obj"), "");
   // Open: the cube without its last triangle.
   const std::string open = cube.substr(0, cube.rfind("f "));
@@ -162,7 +156,7 @@ TEST(MeshObjects, OverlappingShellsStopTheSampling) {
   const test::TestMesh b = test::box_mesh(Vec3d(0.4, 0.2, 0.2), Vec3d(0.8, 0.6, 0.6));
   for (const Vec3d& v : b.vertices) both.vertices.push_back(v);
   for (const auto& t : b.triangles) both.triangles.push_back({t[0] + 8, t[1] + 8, t[2] + 8});
-  write_file_atomic(folder() + "/meshes/two.obj", encode_obj(to_trimesh(both)));
+  write_file_atomic(folder() + "/meshes/two.obj", encode_obj(test::to_trimesh(both)));
   const Scene s = load_scene(test::write_temp_in(folder(), "two.json",
                                                  mesh_scene("meshes/two.obj", "grid", 8).dump()));
   try {
