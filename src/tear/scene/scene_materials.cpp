@@ -116,7 +116,7 @@ MaterialSpec parse_material(const Reader& r, const std::string& name, const json
   spec.fiber_scale[1] = Real(fs[1]);
   spec.params = make_material(model, Real(E), Real(nu), Real(rho), Real(fs[0]), Real(fs[1]));
   // qr_aniso's energy lambda: tear's lambda_Lame + mu (small strains match E, nu) or, with
-  // "paper", lambda_Lame itself, as the paper's code and Table 1 use it.
+  // "paper", lambda_Lame itself, as the paper's energy reads with Table 1's E, nu.
   const int convention = r.choice(m, path, "lambda_convention", {"small_strain", "paper"}, 0);
   if (convention == 1) {
     r.check(model == Model::QrAniso, key_path(path, "lambda_convention"),
