@@ -200,10 +200,12 @@ struct Sequence {
   }
 
   // The frame as drawn: in rest space, each particle at its frame-0 position (same ids, same
-  // order: frames list particles by id), with this frame's colours.
-  PointTable shown(int frame, const PointTable& table) const {
-    PointTable t = table;
-    if (!rest_space) return t;
+  // order: frames list particles by id), with this frame's colours, in `shown_`; in world
+  // space the frame itself.
+  const PointTable& shown(int frame, const PointTable& table) {
+    if (!rest_space) return table;
+    PointTable& t = shown_;
+    t = table;
     if (!rest) throw std::runtime_error("rest space needs frame 0 of the run");
     const bool same = table.count == rest->count &&
                       (!table.has("id") || !rest->has("id") ||
@@ -217,6 +219,7 @@ struct Sequence {
         t.columns[c] = rest->column(t.names[c]);
     return t;
   }
+  PointTable shown_;  // shown()'s rest-space frame
 
   void fit(int frame, const PointTable& first) {
     stage = fit_stage(shown(frame, first), look, settings, reach);

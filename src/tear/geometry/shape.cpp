@@ -25,14 +25,19 @@ double box_sdf(const Vec3d& p, const Vec3d& lo, const Vec3d& hi, int dim) {
   return outside + std::min(q.maxCoeff(), 0.0);
 }
 
+// Coordinates of q about the shape's centre and axis: along the axis, and the distance from it.
+Eigen::Vector2d meridian(const Shape& s, const Vec3d& q) {
+  const Vec3d axis = unit_axis(s), d = q - flatten(s.center, s.dim);
+  const double a = d.dot(axis);
+  return Eigen::Vector2d(a, (d - a * axis).norm());
+}
+
 // Cylinder and tube: in the meridian half-plane (a = along the axis, r = distance from it)
 // the solid is the rectangle |a| <= h/2, r in [ri, R]; the distance there is exact in 3D
 // (surface of revolution) and in 2D (two mirrored strips).
 double tube_sdf(const Vec3d& p, const Shape& s, double inner) {
-  Vec3d axis = unit_axis(s);
-  Vec3d d = p - flatten(s.center, s.dim);
-  double a = d.dot(axis);
-  double r = (d - a * axis).norm();
+  const Eigen::Vector2d m = meridian(s, p);
+  const double a = m.x(), r = m.y();
   double half_w = 0.5 * (s.radius - inner), mid = 0.5 * (s.radius + inner);
   double qa = std::abs(a) - 0.5 * s.height;
   // A solid cylinder has no inner surface: its radial term is r - R, not |r - R/2| - R/2.
@@ -55,13 +60,6 @@ double polygon_sdf(const Eigen::Vector2d* v, int n, const Eigen::Vector2d& q) {
       inside = !inside;
   }
   return inside ? -std::sqrt(d2) : std::sqrt(d2);
-}
-
-// Coordinates of q about the shape's centre and axis: along the axis, and the distance from it.
-Eigen::Vector2d meridian(const Shape& s, const Vec3d& q) {
-  const Vec3d axis = unit_axis(s), d = q - flatten(s.center, s.dim);
-  const double a = d.dot(axis);
-  return Eigen::Vector2d(a, (d - a * axis).norm());
 }
 
 // Cone / frustum / tapered tube: a solid of revolution whose meridian section is the
@@ -159,6 +157,7 @@ void local_bounds(const Shape& s, Vec3d* lo, Vec3d* hi) {
       *lo = s.min, *hi = s.max;
       break;
     case Shape::Type::Sphere:
+    case Shape::Type::Wedge:  // within its ball
       *lo = s.center - Vec3d::Constant(s.radius), *hi = s.center + Vec3d::Constant(s.radius);
       break;
     case Shape::Type::Cylinder:
@@ -181,9 +180,6 @@ void local_bounds(const Shape& s, Vec3d* lo, Vec3d* hi) {
       *lo = s.center - e, *hi = s.center + e;
       break;
     }
-    case Shape::Type::Wedge:
-      *lo = s.center - Vec3d::Constant(s.radius), *hi = s.center + Vec3d::Constant(s.radius);
-      break;
     case Shape::Type::HalfSpace:
       *lo = Vec3d::Constant(-std::numeric_limits<double>::infinity());
       *hi = -*lo;

@@ -30,6 +30,13 @@ void check_indices(const TriMesh& mesh, const char* format) {
                                  std::to_string(n) + " vertices");
 }
 
+// One number word of a text mesh: false unless the whole word is a number.
+bool float_word(const std::string& word, float* out) {
+  char* end = nullptr;
+  *out = std::strtof(word.c_str(), &end);
+  return !word.empty() && *end == '\0';
+}
+
 // ---- OBJ -----------------------------------------------------------------------------------
 
 [[noreturn]] void obj_fail(size_t line, const std::string& why) {
@@ -131,10 +138,7 @@ TriMesh decode_obj(const std::string& text) {
       for (int a = 0; a < 3; ++a) {
         std::string value;
         ls >> value;
-        char* end = nullptr;
-        p[a] = std::strtof(value.c_str(), &end);
-        if (value.empty() || *end != '\0')
-          obj_fail(number, "vertex needs three numbers ('" + line + "')");
+        if (!float_word(value, &p[a])) obj_fail(number, "vertex needs three numbers ('" + line + "')");
       }
       mesh.vertices.push_back(p);
     } else if (word == "f") {
@@ -273,9 +277,7 @@ TriMesh decode_stl(const std::string& bytes) {
     for (int a = 0; a < 3; ++a) {
       std::string value;
       in >> value;
-      char* end = nullptr;
-      v[a] = std::strtof(value.c_str(), &end);
-      if (value.empty() || *end != '\0')
+      if (!float_word(value, &v[a]))
         throw std::runtime_error("bad STL: vertex " + std::to_string(vertex_lines) +
                                  " needs three numbers, got '" + value + "'");
     }

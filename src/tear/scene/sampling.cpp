@@ -102,8 +102,8 @@ Mat<Dim> fiber_frame_at(const FiberSpec& f, const Vec3d& p, uint64_t random_key)
       if (has_radial) a2_hint = radial;
       break;
     case FiberField::Random: a1 = random_unit(random_key, Dim); break;
-    // Never sampled as fields: flow is refused by the scene, and from_file points are framed
-    // from their own a1 (a2) as constant fields by the sampler.
+    // Not fields of position: the sampler frames each particle's flow direction or file
+    // fibers as a constant field (sample_scene).
     case FiberField::Flow:
     case FiberField::FromFile: a1 = f.a1; break;
   }

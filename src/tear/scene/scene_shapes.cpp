@@ -82,11 +82,8 @@ std::shared_ptr<const MeshSolid> read_mesh(const Reader& r, const json& j, const
   }
   std::vector<Vec3d> vertices(mesh.vertices.size());
   for (size_t v = 0; v < vertices.size(); ++v) vertices[v] = mesh.vertices[v].cast<double>();
-  std::vector<std::array<int, 3>> triangles(mesh.triangles.size());
-  for (size_t t = 0; t < triangles.size(); ++t)
-    triangles[t] = {mesh.triangles[t][0], mesh.triangles[t][1], mesh.triangles[t][2]};
   try {
-    return std::make_shared<const MeshSolid>(vertices, triangles, "mesh '" + file + "'");
+    return std::make_shared<const MeshSolid>(vertices, mesh.triangles, "mesh '" + file + "'");
   } catch (const std::exception& e) {
     r.fail(fp, "'" + file + "' " + e.what());
   }
