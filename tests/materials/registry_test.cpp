@@ -50,7 +50,6 @@ TEST(Registry, NameListsFollowTheRegistryOrderAndTraits) {
   EXPECT_EQ(model_names(), all);
   EXPECT_EQ(model_names(&ModelTraits::has_fiber_stiffness), "qr_aniso");
   EXPECT_EQ(model_names(&ModelTraits::degraded_by_damage), "qr_aniso");
-  EXPECT_EQ(model_names(&ModelTraits::plastic), "");
 }
 
 // kHasFiberStiffness says whether make_material turns fiber scales into kx, ky.

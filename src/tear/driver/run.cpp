@@ -312,7 +312,15 @@ int check_scene(const std::string& scene_path, const std::vector<std::string>& o
         out << ", kx " << p.kx;
         if (s.dim == 3) out << ", ky " << p.ky;
       }
-      out << ", wave speed " << wave_speed(p) << (m.damage.enabled ? ", damage" : "") << "\n";
+      out << ", wave speed " << wave_speed(p) << (m.damage.enabled ? ", damage" : "");
+      const PlasticParams& y = m.plasticity;
+      if (y.surface == YieldSurface::VonMises)
+        out << ", von Mises plasticity (yield stress " << y.yield_stress << ", hardening "
+            << y.hardening << ")";
+      if (y.surface == YieldSurface::DruckerPrager)
+        out << ", Drucker-Prager plasticity (friction " << y.friction << ", cohesion term "
+            << y.cohesion_term << (y.volume_correction ? ", volume correction" : "") << ")";
+      out << "\n";
       if (m.damage.enabled) print_crack_onset(out, s, m);
     }
     if (s.damage.solver != DamageSolver::None) {

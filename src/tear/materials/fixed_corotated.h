@@ -14,7 +14,6 @@ struct FixedCorotated {
   static constexpr bool kDegradedByDamage = false;
   static constexpr bool kClosedFormKirchhoff = false;
   static constexpr bool kAnalyticDifferential = true;
-  static constexpr bool kPlastic = false;
 
   // mu, lambda are the Lame parameters of (E, nu) as make_material sets them.
   static void map_parameters(MaterialParams*, Real, Real) {}

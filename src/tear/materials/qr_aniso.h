@@ -20,7 +20,6 @@ struct QrAniso {
   // needs dP/dF", supplement §3.3-3.4) replaces it.
   static constexpr bool kClosedFormKirchhoff = false;
   static constexpr bool kAnalyticDifferential = false;
-  static constexpr bool kPlastic = false;
 
   // lambda = lambda_Lame + mu (EQUATIONS.md §2 small-strain note); kx, ky = fiber scales * mu.
   static void map_parameters(MaterialParams* m, Real fiber_scale1, Real fiber_scale2);

@@ -20,16 +20,10 @@ namespace tear {
 //   kAnalyticDifferential   stress_differential is closed-form (else numerical, helpers.h)
 //   kClosedFormKirchhoff    has kirchhoff_stress<Dim>(m, F, D, g) = P F^T in closed form
 //                           (else material.cpp forms first_piola times F^T)
-//   kPlastic                has a plastic return map. None has yet; a plastic model adds
-//                             template <int Dim>
-//                             static void return_map(const MaterialParams&, Mat<Dim>* F_elastic,
-//                                                    State* state);
-//                           over its own per-particle State (a field of its particle group,
-//                           ARCHITECTURE.md "Fields and groups"), projecting the trial elastic
-//                           F after G2P updates it.
 //   map_parameters(MaterialParams*, fiber_scale1, fiber_scale2), run after make_material has
 //   set the Lame parameters; energy<Dim>(m, F, D, g), first_piola<Dim>(m, F, D, g) and
 //   stress_differential<Dim>(m, F, D, dF, g), as the free functions of material.h.
+// Plasticity is not a model: any model takes a return map on its F (plasticity.h).
 // Adding a model: its file, its value in `Model` (material.h) and its entry in `Models`.
 template <class... Ms>
 struct ModelList {
@@ -75,8 +69,7 @@ auto visit_model(Model model, Fn&& fn) {
 struct ModelTraits {
   Model model;
   const char* name;
-  bool has_fiber_stiffness, degraded_by_damage, analytic_differential, closed_form_kirchhoff,
-      plastic;
+  bool has_fiber_stiffness, degraded_by_damage, analytic_differential, closed_form_kirchhoff;
 };
 
 namespace registry_detail {
@@ -84,8 +77,7 @@ namespace registry_detail {
 template <class... Ms>
 constexpr std::array<ModelTraits, sizeof...(Ms)> traits_of(ModelList<Ms...>) {
   return {{ModelTraits{Ms::kModel, Ms::kName, Ms::kHasFiberStiffness, Ms::kDegradedByDamage,
-                       Ms::kAnalyticDifferential, Ms::kClosedFormKirchhoff,
-                       Ms::kPlastic}...}};
+                       Ms::kAnalyticDifferential, Ms::kClosedFormKirchhoff}...}};
 }
 
 }  // namespace registry_detail

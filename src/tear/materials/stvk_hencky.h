@@ -7,7 +7,7 @@
 namespace tear {
 
 // Psi = mu |log Sigma|^2 + lambda/2 (tr log Sigma)^2, F = U Sigma V^T the signed SVD, log
-// floored (safe_log, helpers.h). The model plasticity return maps will use (docs/materials.md).
+// floored (safe_log, helpers.h). The stress plasticity's return maps measure (plasticity.h).
 struct StvkHencky {
   static constexpr Model kModel = Model::StvkHencky;
   static constexpr const char* kName = "stvk_hencky";
@@ -16,8 +16,6 @@ struct StvkHencky {
   // Numerical until the SVD-based analytic differential is written.
   static constexpr bool kClosedFormKirchhoff = false;
   static constexpr bool kAnalyticDifferential = false;
-  // Its return map (von Mises, Drucker-Prager on log Sigma) goes here when plasticity lands.
-  static constexpr bool kPlastic = false;
 
   // mu, lambda are the Lame parameters of (E, nu) as make_material sets them.
   static void map_parameters(MaterialParams*, Real, Real) {}

@@ -68,6 +68,7 @@ void explicit_step(const MpmSettings& settings, MpmState<Dim>* state, double dt,
   {
     PhaseTimer timer(&t.g2p);
     g2p(settings, state, Real(dt));
+    project_plastic(settings, state);
   }
   migrate_particles(state, domain);
   state->time += dt;

@@ -74,6 +74,11 @@ void grid_update(const MpmSettings& settings, MpmState<Dim>* state, Real dt);
 template <int Dim>
 void g2p(const MpmSettings& settings, MpmState<Dim>* state, Real dt);
 
+// The plastic return map of every particle whose material is plastic, on the F that G2P just
+// updated (materials/plasticity.h; mpm/plasticity.cpp). Nothing without plastic materials.
+template <int Dim>
+void project_plastic(const MpmSettings& settings, MpmState<Dim>* state);
+
 // scale times the Kirchhoff stress tau = P F^T of particle i of `p` that P2G spreads, P
 // degraded by the particle's damage (from this step's undegraded stress, or made here without
 // a damage phase: in closed form where the model has one, materials/registry.h).

@@ -6,6 +6,7 @@
 #include "tear/damage/damage_settings.h"
 #include "tear/grid/collider.h"
 #include "tear/materials/material.h"
+#include "tear/materials/plasticity.h"
 #include "tear/math/types.h"
 
 #include <vector>
@@ -31,10 +32,12 @@ struct MpmSettings {
   // Boundaries: the domain walls (ContactType::None: no walls) and analytic colliders.
   ContactType walls = ContactType::Separate;
   std::vector<Collider> colliders;
-  // Materials, indexed by a particle's material id: the constitutive model and its damage
-  // parameters (enabled = false: never damaged).
+  // Materials, indexed by a particle's material id: the constitutive model, its damage
+  // parameters (enabled = false: never damaged) and its plasticity (YieldSurface::None: elastic;
+  // may be empty when no material is plastic).
   std::vector<MaterialParams> materials;
   std::vector<DamageParams> material_damage;
+  std::vector<PlasticParams> material_plasticity;
   DamageSettings damage;
 };
 

@@ -12,6 +12,12 @@ MpmState<Dim> make_mpm_state(const MpmSettings& settings, std::vector<Particles<
     for (Particles<Dim>& g : state.groups) g.enable("drive");
   if (settings.damage.split_fields)
     for (Particles<Dim>& g : state.groups) g.enable("damage_gradient");
+  for (const PlasticParams& m : settings.material_plasticity) {
+    if (m.surface == YieldSurface::None) continue;
+    for (Particles<Dim>& g : state.groups) g.enable("plastic_strain");
+    if (m.surface == YieldSurface::DruckerPrager && m.volume_correction)
+      for (Particles<Dim>& g : state.groups) g.enable("plastic_volume");
+  }
   state.grid.setup(settings.domain_min, settings.domain_max, settings.dx);
   sort_particles(&state);
   return state;

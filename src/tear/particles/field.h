@@ -43,7 +43,7 @@ struct FieldInfo {
   FieldRole role = FieldRole::State;
   FieldColumns columns;
   // Optional fields exist (hold values) only in stores that enable them: state that only some
-  // bodies need (the damage history, plastic state later).
+  // bodies need (the damage history, plastic state).
   bool optional = false;
 };
 
@@ -51,8 +51,8 @@ struct FieldInfo {
 inline FieldInfo state_field(std::string name, FieldColumns columns = {}) {
   return {std::move(name), FieldRole::State, std::move(columns), false};
 }
-inline FieldInfo optional_state_field(std::string name) {
-  return {std::move(name), FieldRole::State, {}, true};
+inline FieldInfo optional_state_field(std::string name, FieldColumns columns = {}) {
+  return {std::move(name), FieldRole::State, std::move(columns), true};
 }
 inline FieldInfo scratch_field(std::string name) {
   return {std::move(name), FieldRole::Scratch, {}, false};

@@ -44,6 +44,12 @@ struct Particles : FieldRegistry {
   Field<Real> vol0{this, state_field("vol0"), 0};  // rest volume
   // Crack driving force history Dtilde^H, never decreasing: only where damage is simulated.
   Field<Real> drive{this, optional_state_field("drive"), 0};
+  // Plastic state, only where some material is plastic (materials/plasticity.h): the
+  // accumulated equivalent plastic strain (a frame column), and the volume Drucker-Prager's
+  // volume correction owes back.
+  Field<Real> plastic_strain{
+      this, optional_state_field("plastic_strain", {{"plastic_strain"}, ColumnType::Float32}), 0};
+  Field<Real> plastic_volume{this, optional_state_field("plastic_volume"), 0};
   // Home block slot at the last reorder (-1: never reordered); the reorder decision, and so the
   // summation order, depends on it, so it is part of the restartable state.
   Field<int32_t> reorder_slot{this, state_field("reorder_slot"), -1};

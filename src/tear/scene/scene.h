@@ -53,6 +53,7 @@ struct MaterialSpec {
   MaterialParams params;
   Real fiber_scale[2] = {0, 0};
   DamageParams damage;
+  PlasticParams plasticity;  // YieldSurface::None: elastic
   bool inextensible = false;  // only false is accepted for now
 };
 

@@ -63,6 +63,38 @@ json parse_damage_spec(const Reader& r, const json& m, const std::string& path, 
           {"surface_anisotropy", {d->surface[0], d->surface[1]}}};
 }
 
+// "plasticity": null (elastic), von Mises or Drucker-Prager on the Hencky stress of (E, nu)
+// (materials/plasticity.h).
+json parse_plasticity(const Reader& r, const json& m, const std::string& path, Real E, Real nu,
+                      PlasticParams* out) {
+  const json* j = r.find(m, "plasticity");
+  if (!j || j->is_null()) return nullptr;
+  const std::string p = key_path(path, "plasticity");
+  if (!j->is_object()) r.fail(p, "must be null or an object, got " + type_desc(*j));
+  const int type = r.choice(*j, p, "type", {"von_mises", "drucker_prager"});
+  if (type == 0) {
+    r.object(*j, p, {"type", "yield_stress", "hardening"});
+    const double yield = r.number(*j, p, "yield_stress");
+    r.positive(yield, key_path(p, "yield_stress"));
+    const double hardening = r.number(*j, p, "hardening", 0.0);
+    r.non_negative(hardening, key_path(p, "hardening"));
+    *out = von_mises(E, nu, Real(yield), Real(hardening));
+    return {{"type", "von_mises"}, {"yield_stress", yield}, {"hardening", hardening}};
+  }
+  r.object(*j, p, {"type", "friction_angle", "cohesion", "volume_correction"});
+  const double angle = r.number(*j, p, "friction_angle");
+  r.check(angle > 0 && angle < 90, key_path(p, "friction_angle"),
+          "must be in (0, 90) degrees, got " + num_str(angle));
+  const double cohesion = r.number(*j, p, "cohesion", 0.0);
+  r.non_negative(cohesion, key_path(p, "cohesion"));
+  const bool correct = r.boolean(*j, p, "volume_correction", true);
+  *out = drucker_prager(E, nu, Real(angle), Real(cohesion), correct);
+  return {{"type", "drucker_prager"},
+          {"friction_angle", angle},
+          {"cohesion", cohesion},
+          {"volume_correction", correct}};
+}
+
 MaterialSpec parse_material(const Reader& r, const std::string& name, const json& m,
                             json* out) {
   std::string path = key_path("materials", name);
@@ -126,14 +158,7 @@ MaterialSpec parse_material(const Reader& r, const std::string& name, const json
   }
 
   json damage = parse_damage_spec(r, m, path, &spec.damage);
-  if (const json* p = r.find(m, "plasticity")) {
-    std::string pp = key_path(path, "plasticity");
-    if (!p->is_object()) r.fail(pp, "must be null or an object, got " + type_desc(*p));
-    int type = r.choice(*p, pp, "type", {"von_mises", "drucker_prager"});
-    r.fail(key_path(pp, "type"),
-           std::string(type == 0 ? "\"von_mises\"" : "\"drucker_prager\"") +
-               ": not implemented yet");
-  }
+  json plasticity = parse_plasticity(r, m, path, Real(E), Real(nu), &spec.plasticity);
   spec.inextensible = r.boolean(m, path, "inextensible", false);
   r.check(!spec.inextensible, key_path(path, "inextensible"), "true: not implemented yet");
   if (r.find(m, "inextensibility_relaxation"))
@@ -146,7 +171,7 @@ MaterialSpec parse_material(const Reader& r, const std::string& name, const json
           {"rho", rho},         {"fiber_scale", fsj},
           {"lambda_convention", convention == 1 ? "paper" : "small_strain"},
           {"damage", damage},
-          {"plasticity", nullptr}, {"inextensible", false}};
+          {"plasticity", plasticity}, {"inextensible", false}};
   return spec;
 }
 

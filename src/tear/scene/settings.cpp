@@ -24,6 +24,7 @@ MpmSettings mpm_settings(const Scene& scene) {
     DamageParams d = m.damage;
     if (scene.damage.solver == DamageSolver::None) d.enabled = false;
     s.material_damage.push_back(d);
+    s.material_plasticity.push_back(m.plasticity);
   }
   return s;
 }
