@@ -177,7 +177,7 @@ Sdf tapered_tube() {
   s.axis = Vec3d::UnitZ(), s.height = 2 * end;
   s.inner_radius = radius(0, -end) + shift, s.radius = radius(1, -end) - shift;
   s.inner_radius_top = radius(0, end) + shift, s.radius_top = radius(1, end) - shift;
-  return [s, kRim](const Vec3d& p) { return s.sdf(p) - kRim; };
+  return [s](const Vec3d& p) { return s.sdf(p) - kRim; };
 }
 
 // A ring torus about z: radius 0.3 to the tube's centre circle, tube radius 0.1.
