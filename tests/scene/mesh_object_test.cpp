@@ -19,19 +19,6 @@ namespace {
 
 using json = nlohmann::json;
 
-
-// A 3D scene in its own folder with one mesh object of file `mesh` (relative to the scene).
-json mesh_scene(const std::string& mesh, const std::string& sampling, int ppc) {
-  json doc = test::minimal_scene_2d();
-  doc["dim"] = 3;
-  doc["grid"] = {{"dx", 0.02}, {"domain_min", {0, 0, 0}}, {"domain_max", {1, 1, 1}}};
-  doc["objects"][0] = {{"shape", {{"type", "mesh"}, {"file", mesh}}},
-                       {"material", "jelly"},
-                       {"sampling", sampling},
-                       {"ppc", ppc}};
-  return doc;
-}
-
 std::string folder() {
   const std::string dir = ::testing::TempDir() + "tear_mesh_objects";
   std::filesystem::create_directories(dir + "/meshes");
@@ -60,7 +47,7 @@ TEST(MeshObjects, SampledVolumeMatchesTheMeshForEverySamplingAndFormat) {
                                         {"random", 5}}) {
       if (file != "torus.obj" && sampling == "grid") continue;  // the readers: one each
       const std::string scene_path =
-          test::write_temp_in(folder(), "torus.json", mesh_scene("meshes/" + file, sampling, ppc).dump());
+          test::write_temp_in(folder(), "torus.json", test::mesh_scene("meshes/" + file, sampling, ppc).dump());
       const Scene s = load_scene(scene_path);
       const Particles<3> p = sample_scene<3>(s);
       double sampled = 0;
@@ -83,7 +70,7 @@ TEST(MeshObjects, SampledVolumeMatchesTheMeshForEverySamplingAndFormat) {
 
 TEST(MeshObjects, TransformMovesTheSampledBody) {
   const double volume = write_torus("moved.obj");
-  json doc = mesh_scene("meshes/moved.obj", "grid", 8);
+  json doc = test::mesh_scene("meshes/moved.obj", "grid", 8);
   // x_world = t + R (0.5 x) with R a quarter turn about x: the torus, centred at (0.5, 0.5,
   // 0.5) in the file, is centred at (0.35, 0.5, 0.25) with its axis along y, half the size.
   doc["objects"][0]["shape"]["transform"] = {
@@ -104,7 +91,7 @@ TEST(MeshObjects, TransformMovesTheSampledBody) {
 
 std::string mesh_error(const std::string& mesh_text, const std::string& file, int dim = 3) {
   write_file_atomic(folder() + "/meshes/" + file, mesh_text);
-  json doc = mesh_scene("meshes/" + file, "random", 4);
+  json doc = test::mesh_scene("meshes/" + file, "random", 4);
   if (dim == 2) {
     doc["dim"] = 2;
     doc["grid"] = {{"dx", 0.05}, {"domain_min", {0, 0}}, {"domain_max", {1, 1}}};
@@ -139,7 +126,7 @@ TEST(MeshObjects, ErrorsNameTheSceneTheKeyAndTheMesh) {
 }
 
 TEST(MeshObjects, MissingFileIsNamed) {
-  json doc = mesh_scene("meshes/none.obj", "random", 4);
+  json doc = test::mesh_scene("meshes/none.obj", "random", 4);
   std::filesystem::remove(folder() + "/meshes/none.obj");
   const std::string scene = test::write_temp_in(folder(), "missing.json", doc.dump());
   try {
@@ -158,7 +145,7 @@ TEST(MeshObjects, OverlappingShellsStopTheSampling) {
   for (const auto& t : b.triangles) both.triangles.push_back({t[0] + 8, t[1] + 8, t[2] + 8});
   write_file_atomic(folder() + "/meshes/two.obj", encode_obj(test::to_trimesh(both)));
   const Scene s = load_scene(test::write_temp_in(folder(), "two.json",
-                                                 mesh_scene("meshes/two.obj", "grid", 8).dump()));
+                                                 test::mesh_scene("meshes/two.obj", "grid", 8).dump()));
   try {
     sample_scene<3>(s);
     ADD_FAILURE() << "sampled";

@@ -23,6 +23,19 @@ inline nlohmann::json minimal_scene_2d() {
   })");
 }
 
+// A 3D scene over the unit cube (dx 0.02) with one object, the mesh `file` (relative to the
+// scene file) sampled by `sampling` at `ppc` particles a cell.
+inline nlohmann::json mesh_scene(const std::string& file, const std::string& sampling, int ppc) {
+  nlohmann::json doc = minimal_scene_2d();
+  doc["dim"] = 3;
+  doc["grid"] = {{"dx", 0.02}, {"domain_min", {0, 0, 0}}, {"domain_max", {1, 1, 1}}};
+  doc["objects"][0] = {{"shape", {{"type", "mesh"}, {"file", file}}},
+                       {"material", "jelly"},
+                       {"sampling", sampling},
+                       {"ppc", ppc}};
+  return doc;
+}
+
 // The SceneError message of parsing `doc`, or "" when it parses.
 inline std::string scene_error(const nlohmann::json& doc, const std::string& file = "broken.json") {
   try {

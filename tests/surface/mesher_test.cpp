@@ -1,5 +1,6 @@
 // The surface mesher: closed, manifold, outward meshes with the particles' volume; cracks that
-// split a body; 2D slabs; the spacing estimate; the same bytes for any thread count.
+// split a body; 2D slabs; the spacing estimate; the same bytes for any thread count; implicit
+// solids (mesh_implicit).
 #include "tear/surface/mesher.h"
 
 #include <gtest/gtest.h>
@@ -234,6 +235,44 @@ TEST(Mesher, EmptyInputsGiveEmptyMeshesAndBadOptionsThrow) {
   bad = with_spacing(h);
   bad.smooth = -2;
   EXPECT_THROW(mesh_particles(one.table(), bad), std::invalid_argument);
+}
+
+TEST(MeshImplicit, ABallAndARingAreClosedWithTheirVolumesAndTheSameBytesForAnyThreads) {
+  // Two solids in one: a ball of radius 0.2 and, apart from it, a ring torus (R 0.15, r 0.05).
+  // The torus's distance is exact; the ball's is scaled by 3 to show that only the sign and the
+  // values near the surface matter.
+  const Eigen::Vector3d c(0.25, 0, 0), t(-0.2, 0, 0);
+  auto sdf = [&](const Eigen::Vector3d& p) {
+    const Eigen::Vector3d q = p - t;
+    const double ring = std::hypot(std::hypot(q.x(), q.y()) - 0.15, q.z()) - 0.05;
+    return std::min(3 * ((p - c).norm() - 0.2), ring);
+  };
+  const Eigen::Vector3d lo(-0.45, -0.25, -0.25), hi(0.5, 0.25, 0.25);
+  for (const double adaptivity : {0.0, 0.3}) {
+    SCOPED_TRACE(adaptivity);
+    std::string bytes[2];
+    TriMesh mesh;
+    for (const int threads : {1, 2}) {
+      const ThreadLimit limit(threads);
+      mesh = mesh_implicit(sdf, lo, hi, 0.005, adaptivity);
+      bytes[threads - 1] = encode_mesh_ply(mesh);
+    }
+    EXPECT_TRUE(bytes[0] == bytes[1]);
+    const MeshCheck m = check_mesh(mesh);
+    EXPECT_TRUE(m.closed && m.oriented && m.manifold);
+    EXPECT_EQ(m.components, 2);
+    const double exact = 4 * kPi / 3 * 0.008 + 2 * kPi * kPi * 0.15 * 0.0025;
+    // Adaptive facets span several voxels and cut inside the curved surfaces a little more.
+    EXPECT_NEAR(m.volume / exact, 1, 0.01 + 0.1 * adaptivity) << m.volume << " vs " << exact;
+    for (const Eigen::Vector3f& v : mesh.vertices)  // on the surfaces, to a fraction of a voxel
+      ASSERT_LT(std::abs(sdf(v.cast<double>())), 3 * 0.002) << v.transpose();
+  }
+  // The solid must not reach the box's sides (here the box cuts the ring); bad settings throw.
+  EXPECT_THROW(mesh_implicit(sdf, Eigen::Vector3d(-0.1, -0.3, -0.3), hi, 0.01, 0),
+               std::invalid_argument);
+  EXPECT_THROW(mesh_implicit(sdf, lo, hi, 0, 0), std::invalid_argument);
+  EXPECT_THROW(mesh_implicit(sdf, lo, hi, 0.01, 1.5), std::invalid_argument);
+  EXPECT_THROW(mesh_implicit(sdf, hi, lo, 0.01, 0), std::invalid_argument);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
-// mesh_particles: particles -> narrow-band level set (OpenVDB) -> triangle mesh. Every use of
-// OpenVDB in tear is in this file. Lengths below are in particle spacings s.
+// mesh_particles: particles -> narrow-band level set (OpenVDB) -> triangle mesh; mesh_implicit:
+// a formula's signed distance -> the same mesher. Every use of OpenVDB in tear is in this file.
+// Lengths below are in particle spacings s.
 //
 // 1. Undamaged particles become a union of spheres of radius r (ParticlesToLevelSet). r must
 //    exceed half the lattice's body diagonal (sqrt(3)/2) for the union to have no holes; the
@@ -31,6 +32,7 @@
 #include <openvdb/tools/LevelSetRebuild.h>
 #include <openvdb/tools/MeshToVolume.h>
 #include <openvdb/tools/ParticlesToLevelSet.h>
+#include <openvdb/tools/Prune.h>
 #include <openvdb/tools/VolumeToMesh.h>
 
 #include <algorithm>
@@ -41,6 +43,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "tear/exec/parallel.h"
 #include "tear/math/types.h"
 
 namespace tear {
@@ -74,6 +77,32 @@ openvdb::FloatGrid::Ptr spheres(const ParticleList& particles, double radius,
   raster.finalize(/*prune=*/true);
   TEAR_ASSERT(!raster.ignoredParticles());  // radii are at least kMinRadius voxels
   return grid;
+}
+
+// The surface {grid = isovalue} (volumeToMesh; adaptivity in [0, 1] merges voxels where it is
+// flat), as counter-clockwise triangles seen from outside.
+TriMesh iso_surface(const openvdb::FloatGrid& grid, double isovalue, double adaptivity) {
+  std::vector<openvdb::Vec3s> points;
+  std::vector<openvdb::Vec3I> triangles;
+  std::vector<openvdb::Vec4I> quads;
+  openvdb::tools::volumeToMesh(grid, points, triangles, quads, isovalue, adaptivity, true);
+
+  TriMesh mesh;
+  mesh.vertices.reserve(points.size());
+  for (const openvdb::Vec3s& p : points) mesh.vertices.emplace_back(p.x(), p.y(), p.z());
+  mesh.triangles.reserve(triangles.size() + 2 * quads.size());
+  auto add = [&](uint32_t a, uint32_t b, uint32_t c) {
+    mesh.triangles.push_back({int32_t(a), int32_t(c), int32_t(b)});  // reversed: CCW outside
+  };
+  for (const openvdb::Vec3I& t : triangles) add(t[0], t[1], t[2]);
+  for (const openvdb::Vec4I& q : quads) {
+    const auto& v = mesh.vertices;
+    if ((v[q[0]] - v[q[2]]).squaredNorm() <= (v[q[1]] - v[q[3]]).squaredNorm())
+      add(q[0], q[1], q[2]), add(q[0], q[2], q[3]);
+    else
+      add(q[0], q[1], q[3]), add(q[1], q[2], q[3]);
+  }
+  return mesh;
 }
 
 void check(bool ok, const std::string& what) {
@@ -163,26 +192,56 @@ TriMesh mesh_particles(const PointTable& frame, const MeshOptions& o) {
     for (int i = 0; i < smooth; ++i) filter.mean(1);
   }
 
-  std::vector<openvdb::Vec3s> points;
-  std::vector<openvdb::Vec3I> triangles;
-  std::vector<openvdb::Vec4I> quads;
-  openvdb::tools::volumeToMesh(*grid, points, triangles, quads, -inset, 0.0, true);
+  return iso_surface(*grid, -inset, 0.0);
+}
 
-  mesh.vertices.reserve(points.size());
-  for (const openvdb::Vec3s& p : points) mesh.vertices.emplace_back(p.x(), p.y(), p.z());
-  mesh.triangles.reserve(triangles.size() + 2 * quads.size());
-  auto add = [&](uint32_t a, uint32_t b, uint32_t c) {
-    mesh.triangles.push_back({int32_t(a), int32_t(c), int32_t(b)});  // reversed: CCW outside
+TriMesh mesh_implicit(const std::function<double(const Eigen::Vector3d&)>& sdf,
+                      const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double voxel,
+                      double adaptivity) {
+  if (!(voxel > 0) || !(adaptivity >= 0 && adaptivity <= 1) || !lo.allFinite() || !hi.allFinite() ||
+      !(hi.array() > lo.array()).all())
+    throw std::invalid_argument("mesh_implicit: needs voxel > 0, adaptivity in [0, 1], lo < hi");
+  static std::once_flag init;
+  std::call_once(init, [] { openvdb::initialize(); });
+  // Voxel centres at integer multiples of the voxel (OpenVDB's linear transform), over the box.
+  const openvdb::Coord a(int(std::floor(lo.x() / voxel)), int(std::floor(lo.y() / voxel)),
+                         int(std::floor(lo.z() / voxel)));
+  const openvdb::Coord b(int(std::ceil(hi.x() / voxel)), int(std::ceil(hi.y() / voxel)),
+                         int(std::ceil(hi.z() / voxel)));
+  const openvdb::Coord n = b - a + openvdb::Coord(1);
+  const size_t count = size_t(n.x()) * size_t(n.y()) * size_t(n.z());
+  auto coord = [&](size_t i) {
+    return a + openvdb::Coord(int(i % size_t(n.x())), int(i / size_t(n.x()) % size_t(n.y())),
+                              int(i / size_t(n.x()) / size_t(n.y())));
   };
-  for (const openvdb::Vec3I& t : triangles) add(t[0], t[1], t[2]);
-  for (const openvdb::Vec4I& q : quads) {
-    const auto& v = mesh.vertices;
-    if ((v[q[0]] - v[q[2]]).squaredNorm() <= (v[q[1]] - v[q[3]]).squaredNorm())
-      add(q[0], q[1], q[2]), add(q[0], q[2], q[3]);
-    else
-      add(q[0], q[1], q[3]), add(q[1], q[2], q[3]);
+  std::vector<float> value(count);
+  parallel_for(count, [&](size_t i) {
+    const openvdb::Coord c = coord(i);
+    value[i] = float(sdf(voxel * Eigen::Vector3d(c.x(), c.y(), c.z())));
+  });
+  // The narrow band active; deeper inside, inactive voxels of the inside value (a closed
+  // surface then needs no flood fill, whatever the estimate does far from it).
+  const float band = float(kHalfWidth * voxel);
+  openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(band);
+  grid->setTransform(openvdb::math::Transform::createLinearTransform(voxel));
+  grid->setGridClass(openvdb::GRID_LEVEL_SET);
+  openvdb::FloatGrid::Accessor acc = grid->getAccessor();
+  for (size_t i = 0; i < count; ++i) {
+    const openvdb::Coord c = coord(i);
+    const bool side = c.x() == a.x() || c.x() == b.x() || c.y() == a.y() || c.y() == b.y() ||
+                      c.z() == a.z() || c.z() == b.z();
+    if (side && !(value[i] > 0))
+      throw std::invalid_argument("mesh_implicit: the solid reaches the side of the box at (" +
+                                  std::to_string(voxel * c.x()) + ", " +
+                                  std::to_string(voxel * c.y()) + ", " +
+                                  std::to_string(voxel * c.z()) + ")");
+    if (std::abs(value[i]) < band)
+      acc.setValue(c, value[i]);
+    else if (value[i] < 0)
+      acc.setValueOff(c, -band);
   }
-  return mesh;
+  openvdb::tools::pruneLevelSet(grid->tree());
+  return iso_surface(*grid, 0.0, adaptivity);
 }
 
 const char* openvdb_version() { return OPENVDB_LIBRARY_VERSION_STRING; }

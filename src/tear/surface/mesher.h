@@ -1,11 +1,15 @@
 // surface/: particles to a closed triangle surface (OpenVDB narrow-band level set, then
 // iso-surface), with cracks left open: particles damaged past a threshold do not join the
-// two sides of a crack. What `tear mesh` and the renderer's surface mode use. Knows io/'s point
-// tables and meshes, nothing of scenes or the simulation; OpenVDB stays inside mesher.cpp.
+// two sides of a crack. What `tear mesh` and the renderer's surface mode use; also implicit
+// solids to meshes (the shipped meshes of examples/meshes/). Knows io/'s point tables and
+// meshes, nothing of scenes or the simulation; OpenVDB stays inside mesher.cpp.
 #pragma once
 
 #include "tear/io/mesh_io.h"
 #include "tear/io/point_table.h"
+
+#include <Eigen/Core>
+#include <functional>
 
 namespace tear {
 
@@ -27,6 +31,18 @@ struct MeshOptions {
 // for any thread count. Throws std::invalid_argument on bad options and std::runtime_error when the
 // spacing cannot be estimated (fewer than two distinct points).
 TriMesh mesh_particles(const PointTable& frame, const MeshOptions& options);
+
+// The surface {sdf = 0} of an implicit solid (sdf < 0 inside), for meshes made from formulas
+// (tools/make_meshes.cpp): sdf is sampled at voxel centres over the box [lo, hi] (in parallel:
+// it must be safe to call from several threads), which must hold the solid with at least one
+// voxel to spare (std::invalid_argument otherwise), and meshed by OpenVDB's volumeToMesh;
+// `adaptivity` in [0, 1] merges voxels where the surface is flat (0: one or two triangles a
+// voxel). sdf must have the right sign everywhere; its values matter only within 3 voxels of
+// the surface, where an estimate of the distance serves (a smooth union, a scaled implicit
+// function). Closed, counter-clockwise seen from outside; the same bytes for any thread count.
+TriMesh mesh_implicit(const std::function<double(const Eigen::Vector3d&)>& sdf,
+                      const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double voxel,
+                      double adaptivity);
 
 // Throws std::invalid_argument naming the option when mesh_particles would reject `options`.
 void check_mesh_options(const MeshOptions& options);
