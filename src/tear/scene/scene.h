@@ -131,6 +131,9 @@ struct Scene {
   int output_every = 1;
   std::vector<std::string> formats{"ply"};
   int checkpoint_every = 10;
+  // Optional frame columns to write (Particles::optional_columns()): driving_force,
+  // damage_laplacian.
+  std::vector<std::string> output_fields;
   RenderSpec render;
 
   nlohmann::json resolved;  // the full scene with every default filled in
