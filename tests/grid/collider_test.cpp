@@ -116,7 +116,8 @@ TEST(Collider, PlacedShapeIsTheShapeWhereTheMotionPutsIt) {
   cyl.shape.radius = 0.1;
   cyl.shape.height = 0.3;
   cyl.shape.transform.translate = Vec3d(0.4, 0.3, 0.5);
-  cyl.shape.transform.rotate = Eigen::AngleAxisd(0.7, Vec3d(1, 1, 0).normalized()).toRotationMatrix();
+  cyl.shape.transform.rotate =
+      Eigen::AngleAxisd(0.7, Vec3d(1, 1, 0).normalized()).toRotationMatrix();
   cyl.shape.transform.scale = 1.5;
   cyl.velocity = Vec3d(0.3, 0, 0.1);
   cyl.angular_velocity = Vec3d(1, -2, 0.5);

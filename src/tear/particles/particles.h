@@ -55,8 +55,8 @@ struct Particles : FieldRegistry {
   Field<V> damage_gradient{this, optional_scratch_field("damage_gradient"), V::Zero()};
   // Optional frame columns. The crack driving force the damage update used, Dtilde (`drive`;
   // 0 where damage is not simulated).
-  DerivedColumns driving_force{this, {{"driving_force"}, ColumnType::Float32}, &driving_force_of,
-                               true};
+  DerivedColumns driving_force{
+      this, {{"driving_force"}, ColumnType::Float32}, &driving_force_of, true};
   // The damage Laplacian (L d)_p the damage update took this step (damage/phase_field.h; with
   // an anisotropic crack surface, M_p : grad grad d): state, so that it stays with its particle
   // through reorders and migrations until the frame is written.

@@ -183,9 +183,10 @@ json parse_render(const Reader& r, const json& doc, Scene* s) {
   RenderSpec& rs = s->render;
   const RenderSpec def;
   const auto& colors = RenderSpec::kColors;
-  static_assert(std::size(RenderSpec::kColors) == 4);
-  rs.color = colors[r.choice(*v, "render", "color", {colors[0], colors[1], colors[2], colors[3]},
-                             0)];
+  static_assert(std::size(RenderSpec::kColors) == 6);
+  rs.color =
+      colors[r.choice(*v, "render", "color",
+                      {colors[0], colors[1], colors[2], colors[3], colors[4], colors[5]}, 0)];
   auto bounded = [&](const char* key, long long def, long long lo, long long hi) {
     const long long x = r.integer(*v, "render", key, def);
     r.check(x >= lo && x <= hi, key_path("render", key),
