@@ -3,10 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 
 #include "cli_fixture.h"
 #include "tear/io/atomic_file.h"
+#include "tear/io/frames.h"
+#include "tear/render/camera.h"
 #include "tear/render/image.h"
 
 namespace tear {
@@ -145,6 +148,122 @@ TEST_F(RenderCli, RestSpaceDrawsEachParticleAtItsFrameZeroPosition) {
   EXPECT_NE(err_.find("no frame 0 to take the rest positions from"), std::string::npos) << err_;
 }
 
+// A 2D run without gravity: a small disk and two box colliders away from it, one rising at
+// 2.5 per second the whole run, one still and active only until t = 0.05 (frames 0..2 of 0..4).
+nlohmann::json two_colliders_scene(nlohmann::json s) {
+  s["gravity"] = {0, 0};
+  s["objects"][0]["shape"] = {{"type", "sphere"}, {"center", {0.3, 0.5}}, {"radius", 0.08}};
+  s["objects"][0]["velocity"] = {0, 0};
+  s["objects"][0]["angular_velocity"] = 0;
+  s["boundaries"] = nlohmann::json::parse(R"([
+    { "type": "sticky", "shape": { "type": "box", "min": [0.55, 0.40], "max": [0.65, 0.50] },
+      "velocity": [0, 2.5] },
+    { "type": "sticky", "shape": { "type": "box", "min": [0.75, 0.40], "max": [0.85, 0.50] },
+      "end": 0.05 } ])");
+  return s;
+}
+
+// The picture's pixel of a world point under the camera the test gives (the up direction is +y
+// without gravity).
+std::pair<int, int> pixel_of(const Eigen::Vector3d& p) {
+  Camera c;
+  c.position = Eigen::Vector3d(0.5, 0.5, 2.5);
+  c.target = Eigen::Vector3d(0.5, 0.5, 0);
+  c.fov_deg = 40;
+  c.width = 240;
+  c.height = 160;
+  double x = -1, y = -1;
+  EXPECT_TRUE(c.project(p, &x, &y));
+  return {int(x), int(y)};
+}
+
+// The darkest pixel (sum of channels) within a pixel of where a world point is seen.
+int darkest_at(const Image& im, double x, double y) {
+  const auto [px, py] = pixel_of(Eigen::Vector3d(x, y, 0));
+  int darkest = 3 * 255;
+  for (int j = py - 1; j <= py + 1; ++j)
+    for (int i = px - 1; i <= px + 1; ++i) {
+      const uint8_t* c = im.at(i, j);
+      darkest = std::min(darkest, int(c[0]) + int(c[1]) + int(c[2]));
+    }
+  return darkest;
+}
+
+// Each collider is drawn (outlined) where it is at each frame's time: the rising box's top edge
+// moves up by 2.5 * 0.08 between frames 0 and 4, the other box is gone once inactive.
+// --no-colliders changes only the colliders' pixels, and rest-space pictures have none.
+TEST_F(RenderCli, CollidersAreDrawnWhereTheyAreAtEachFrame) {
+  const std::string run = run_folder(two_colliders_scene(scene()));
+  const std::string opts =
+      " --width 240 --height 160 --samples 4 --no-video -q --camera-position 0.5,0.5,2.5 "
+      "--camera-target 0.5,0.5,0 --fov 40 --frames 0:4";
+  ASSERT_EQ(tear("render " + run + opts), 0) << err_;
+  const Image f0 = picture(run + "/render/00000.png"), f4 = picture(run + "/render/00004.png");
+  constexpr int kDark = 3 * 100, kLight = 3 * 150;  // outline; background, ground, fill
+  // The rising box: its top edge at y = 0.5 in frame 0 and 0.7 in frame 4 (17 pixels up).
+  EXPECT_LT(darkest_at(f0, 0.6, 0.5), kDark);
+  EXPECT_GT(darkest_at(f0, 0.6, 0.7), kLight);
+  EXPECT_LT(darkest_at(f4, 0.6, 0.7), kDark);
+  EXPECT_GT(darkest_at(f4, 0.6, 0.5), kLight);
+  EXPECT_LT(darkest_at(f4, 0.6, 0.6), kDark);  // its bottom edge, where its top was + 0.1
+  // The box that stops at t = 0.05: outlined in frame 0, absent in frame 4.
+  EXPECT_LT(darkest_at(f0, 0.8, 0.5), kDark);
+  EXPECT_GT(darkest_at(f4, 0.8, 0.5), kLight);
+  EXPECT_LT(darkest_at(f0, 0.85, 0.45), kDark);  // its right edge
+  EXPECT_GT(darkest_at(f4, 0.85, 0.45), kLight);
+
+  // --no-colliders: the same pictures but for the colliders' pixels (within 3 pixels of the
+  // boxes of frame 0).
+  ASSERT_EQ(tear("render " + run + opts + " --no-colliders"), 0) << err_;
+  const Image bare = picture(run + "/render/00000.png");
+  EXPECT_GT(darkest_at(bare, 0.6, 0.5), kLight);
+  EXPECT_GT(darkest_at(bare, 0.8, 0.5), kLight);
+  const auto [x0, y0] = pixel_of(Eigen::Vector3d(0.55, 0.5, 0));
+  const auto [x1, y1] = pixel_of(Eigen::Vector3d(0.85, 0.4, 0));
+  int inside = 0, outside = 0;
+  for (int y = 0; y < bare.height; ++y)
+    for (int x = 0; x < bare.width; ++x) {
+      if (std::memcmp(bare.at(x, y), f0.at(x, y), 3) == 0) continue;
+      const bool near = x >= x0 - 3 && x <= x1 + 3 && y >= y0 - 3 && y <= y1 + 3;
+      (near ? inside : outside) += 1;
+    }
+  EXPECT_GT(inside, 150);
+  EXPECT_EQ(outside, 0);
+
+  // Rest space: no colliders to leave out.
+  ASSERT_EQ(tear("render " + run + opts + " --space rest"), 0) << err_;
+  const std::string rest = read_file(run + "/render/00004.png");
+  ASSERT_EQ(tear("render " + run + opts + " --space rest --no-colliders"), 0) << err_;
+  EXPECT_EQ(read_file(run + "/render/00004.png"), rest);
+}
+
+// output.fields adds driving_force and damage_laplacian to the frames (and only then), and
+// tear render colours by them.
+TEST_F(RenderCli, DrivingForceAndDamageLaplacianWhenTheSceneWritesThem) {
+  json s = scene();
+  s["materials"]["jelly"]["damage"] = {{"sigma_c", 5}, {"eta", 0.01}};
+  s["output"]["fields"] = {"driving_force", "damage_laplacian"};
+  const std::string run = run_folder(s);
+  const PointTable last = read_frame(run + "/frames/00004.ply");
+  ASSERT_GE(last.names.size(), 2u);
+  EXPECT_EQ(last.names[last.names.size() - 2], "driving_force");
+  EXPECT_EQ(last.names.back(), "damage_laplacian");
+  double most = 0;
+  for (double d : last.column("driving_force")) most = std::max(most, d);
+  EXPECT_GT(most, 0) << "the fall should drive some damage";
+  for (const char* map : {"driving_force", "damage_laplacian"}) {
+    ASSERT_EQ(tear("render " + run + kSmall + " --no-video -q --frames 4 --color " + map), 0)
+        << err_;
+    EXPECT_NE(out_.find(std::string("(96x64, ") + map + ")"), std::string::npos) << out_;
+  }
+  // And tear run --render draws them as it goes.
+  ASSERT_EQ(tear("run " + write_scene(s) + " -o " + path("live") +
+                 " -q --frames 1 --render --no-video --color damage_laplacian" + kSmall),
+            0)
+      << err_;
+  EXPECT_TRUE(fs::exists(path("live/render/00001.png")));
+}
+
 TEST_F(RenderCli, MissingFfmpegWarnsAndKeepsThePictures) {
   const std::string run = run_folder();
   const char* old = std::getenv("PATH");
@@ -181,6 +300,13 @@ TEST_F(RenderCli, BadInputIsAClearOneLineError) {
       {"render " + run + " --camera-up=0,0,0", 1, "--camera-up: must be non-zero"},
       {"render", 2, "dir is required"},
       {"run " + write_scene(scene()) + " -o " + path("x") + " --color damage", 2, "--render"},
+      // The optional columns of a run that did not write them (scene output.fields).
+      {"render " + run + " --color driving_force", 1,
+       "tear: " + run +
+           "/frames/00000.ply: no column 'driving_force' for --color driving_force: "
+           "the run did not write it (list \"driving_force\" in the scene's output.fields"},
+      {"run " + write_scene(scene()) + " -o " + path("x") + " --render --color damage_laplacian", 1,
+       "--color damage_laplacian: the run does not write 'damage_laplacian'"},
   };
   for (const Case& c : cases) {
     EXPECT_EQ(tear(c.args), c.code) << c.args << "\n" << err_;

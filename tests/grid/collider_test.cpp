@@ -97,6 +97,55 @@ TEST(Collider, SpinningStickyColliderImposesRigidVelocity) {
   EXPECT_GT(outside, 100);
 }
 
+// The placed shape (what pictures draw) is the collider where its motion puts it: in 2D a
+// moving, spinning box; in 3D a transformed, moving, spinning cylinder. Its distance at a point
+// is the rest shape's at the point moved back, and its inside is the collider's inside.
+TEST(Collider, PlacedShapeIsTheShapeWhereTheMotionPutsIt) {
+  Collider box;
+  box.shape.type = Shape::Type::Box;
+  box.shape.dim = 2;
+  box.shape.min = Vec3d(0.4, 0.4, 0);
+  box.shape.max = Vec3d(0.6, 0.6, 0);
+  box.velocity = Vec3d(0.1, -0.2, 0);
+  box.angular_velocity = Vec3d(0, 0, 2);
+  box.start = 0.1;
+  Collider cyl;
+  cyl.shape.type = Shape::Type::Cylinder;
+  cyl.shape.center = Vec3d(0.1, 0.2, -0.1);
+  cyl.shape.axis = Vec3d(0, 0, 1);
+  cyl.shape.radius = 0.1;
+  cyl.shape.height = 0.3;
+  cyl.shape.transform.translate = Vec3d(0.4, 0.3, 0.5);
+  cyl.shape.transform.rotate =
+      Eigen::AngleAxisd(0.7, Vec3d(1, 1, 0).normalized()).toRotationMatrix();
+  cyl.shape.transform.scale = 1.5;
+  cyl.velocity = Vec3d(0.3, 0, 0.1);
+  cyl.angular_velocity = Vec3d(1, -2, 0.5);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-0.2, 1.2);
+  for (const Collider& c : {box, cyl}) {
+    const double t = 0.35, elapsed = t - c.start;
+    const ColliderState st = collider_state(c, t);
+    const Shape placed = placed_shape(c, st);
+    // The motion spelled out: translation by v (t - start), rotation by w (t - start) about the
+    // shape's centre.
+    const Vec3d centre = c.shape.world_center() + c.velocity * elapsed;
+    const double w = c.angular_velocity.norm();
+    const Eigen::Matrix3d R =
+        Eigen::AngleAxisd(w * elapsed, c.angular_velocity / w).toRotationMatrix();
+    EXPECT_LT((placed.world_center() - centre).norm(), 1e-12);
+    int in = 0;
+    for (int k = 0; k < 2000; ++k) {
+      Vec3d p(u(rng), u(rng), c.shape.dim == 2 ? 0.0 : u(rng));
+      const Vec3d rest = c.shape.world_center() + R.transpose() * (p - centre);
+      EXPECT_NEAR(placed.sdf(p), c.shape.sdf(rest), 1e-12);
+      EXPECT_EQ(placed.inside(p), c.shape.inside(rest));
+      in += placed.inside(p);
+    }
+    EXPECT_GT(in, 10);
+  }
+}
+
 TEST(Collider, HalfSpaceAndDomainWallsStopApproachingNodes) {
   SparseGrid<2> g = filled_grid(Vec<2>(0.5, -1));
   Collider floor;

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <numeric>
 
 namespace tear {
@@ -100,6 +101,36 @@ TEST(FieldRegistry, FrameTableHasTheDeclaredColumnsInIdOrder) {
   }
   EXPECT_EQ(t.types[0], ColumnType::Int32);
   EXPECT_EQ(t.types[8], ColumnType::UInt8);
+}
+
+// The optional frame columns a scene may ask for (output.fields) are listed, absent until
+// enabled, and then written from their fields: driving_force from the damage update's `drive`
+// (0 where damage is not simulated), damage_laplacian from its own field.
+TEST(FieldRegistry, OptionalColumnsAreWrittenOnlyWhereEnabled) {
+  TestStore s = store_of(3);
+  EXPECT_EQ(s.optional_columns(), (std::vector<std::string>{"driving_force", "damage_laplacian"}));
+  const std::vector<std::string> plain = frame_table(s, rows_by_id(s.id)).names;
+  EXPECT_EQ(plain.back(), "test_only");
+  EXPECT_EQ(std::count(plain.begin(), plain.end(), "driving_force"), 0);
+  s.enable("driving_force");
+  s.enable("damage_laplacian");
+  EXPECT_EQ(s.damage_laplacian.size(), 3u);
+  std::vector<std::string> names = plain;
+  names.insert(names.end() - 1, {"driving_force", "damage_laplacian"});
+  PointTable t = frame_table(s, rows_by_id(s.id));
+  EXPECT_EQ(t.names, names);
+  EXPECT_EQ(t.column("driving_force"), std::vector<double>(3, 0.0));  // no `drive` here
+  s.enable("drive");
+  for (size_t i = 0; i < 3; ++i) s.drive[i] = Real(1.5 * i), s.damage_laplacian[i] = -Real(i);
+  s.permute({2, 0, 1});
+  t = frame_table(s, rows_by_id(s.id));
+  EXPECT_EQ(t.column("driving_force"), (std::vector<double>{0, 1.5, 3}));
+  EXPECT_EQ(t.column("damage_laplacian"), (std::vector<double>{0, -1, -2}));
+  // A copy of the store writes the same columns.
+  TestStore copy;
+  copy.enable_like(s);
+  copy.resize(3);
+  EXPECT_EQ(frame_table(copy, rows_by_id(copy.id)).names, names);
 }
 
 TEST(FieldRegistry, CheckpointRecordsRoundTripEveryStateField) {

@@ -5,10 +5,12 @@
 #include <gtest/gtest.h>
 #include "tear/exec/threads.h"
 
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <random>
 
+#include "render_fixture.h"
 #include "tear/render/color_map.h"
 #include "tear/render/legend.h"
 
@@ -16,33 +18,9 @@ namespace tear {
 namespace {
 
 using Eigen::Vector3d;
-
-// A frame with every column the colour maps read.
-PointTable make_frame(const std::vector<Vector3d>& x, const std::vector<double>& damage,
-                      const std::vector<Vector3d>& v = {}) {
-  PointTable t;
-  t.count = x.size();
-  std::vector<double> id(x.size()), c[3], vc[3], mat(x.size()), f[3];
-  for (size_t i = 0; i < x.size(); ++i) {
-    id[i] = double(i);
-    mat[i] = double(i % 2);
-    for (int a = 0; a < 3; ++a) {
-      c[a].push_back(x[i][a]);
-      vc[a].push_back(v.empty() ? 0.0 : v[i][a]);
-      f[a].push_back(a == 0 ? 1.0 : 0.0);
-    }
-  }
-  t.add("id", ColumnType::Int32, id);
-  const char* xs[3] = {"x", "y", "z"};
-  const char* vs[3] = {"vx", "vy", "vz"};
-  const char* fs[3] = {"fx", "fy", "fz"};
-  for (int a = 0; a < 3; ++a) t.add(xs[a], ColumnType::Float32, c[a]);
-  for (int a = 0; a < 3; ++a) t.add(vs[a], ColumnType::Float32, vc[a]);
-  t.add("damage", ColumnType::Float32, damage);
-  t.add("material", ColumnType::UInt8, mat);
-  for (int a = 0; a < 3; ++a) t.add(fs[a], ColumnType::Float32, f[a]);
-  return t;
-}
+using test::hue;
+using test::look_for;
+using test::make_frame;
 
 // A jittered block of n^3 points in [0, 0.6] x [0, 0.3] x [0, 0.4] with a damage ramp.
 PointTable block(int n, int dim = 3) {
@@ -59,15 +37,6 @@ PointTable block(int n, int dim = 3) {
         d.push_back(u.x());
       }
   return make_frame(x, d);
-}
-
-RenderLook look_for(int dim, double radius) {
-  RenderLook look;
-  look.dim = dim;
-  look.radius = radius;
-  look.spacing = 2 * radius;
-  look.material_names = {"meat", "bone"};
-  return look;
 }
 
 TEST(Render, SamePngBytesTwiceAndForAnyThreadCount) {
@@ -188,22 +157,6 @@ TEST(FitStage, GivenCameraIsKept) {
   EXPECT_THROW(fit_stage(frame, look_for(3, 0.01), s), std::invalid_argument);
 }
 
-// Hue in degrees of an 8-bit colour.
-double hue(const uint8_t* p) {
-  const double r = p[0], g = p[1], b = p[2];
-  const double mx = std::max({r, g, b}), mn = std::min({r, g, b});
-  if (mx == mn) return 0;
-  double h;
-  if (mx == r)
-    h = std::fmod((g - b) / (mx - mn), 6.0);
-  else if (mx == g)
-    h = (b - r) / (mx - mn) + 2;
-  else
-    h = (r - g) / (mx - mn) + 4;
-  h *= 60;
-  return h < 0 ? h + 360 : h;
-}
-
 // One sphere of radius R, fully cracked, seen on the camera axis from distance D: its picture
 // is a disk of radius tan(asin(R / D)) / tan(fov / 2) * H / 2 pixels in the damage colour.
 TEST(Render, OneSphereCoversItsAnalyticDiskInTheDamageColour) {
@@ -266,7 +219,8 @@ TEST(Render, LegendIsDrawnAndFollowsTheColourMap) {
   Renderer renderer;
   std::vector<Image> images;
   std::vector<Rect> rects;
-  for (ColorBy c : {ColorBy::Damage, ColorBy::Velocity, ColorBy::Material, ColorBy::Fibers}) {
+  for (ColorBy c : {ColorBy::Damage, ColorBy::Velocity, ColorBy::Material, ColorBy::Fibers,
+                    ColorBy::DrivingForce, ColorBy::DamageLaplacian}) {
     s.color = c;
     images.push_back(renderer.render(frame, look, stage, s));
     Legend legend;
@@ -314,10 +268,93 @@ TEST(Render, MissingColumnIsAClearError) {
               std::string::npos)
         << e.what();
   }
+  s.color = ColorBy::DamageLaplacian;
+  try {
+    Renderer().render(frame, look, fit_stage(frame, look, s), s);
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(
+                  "--color damage_laplacian: the frame has no column 'damage_laplacian'"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+// The centre pixel of one large sphere whose driving_force and damage_laplacian are `value`,
+// coloured by `c` with the map's range `range`.
+std::array<uint8_t, 3> sphere_centre(ColorBy c, double value, double range) {
+  const PointTable frame = make_frame({Vector3d::Zero()}, {0.0}, {}, {value});
+  const RenderLook look = look_for(3, 0.5);
+  RenderSettings s;
+  s.width = 320;  // wide enough that the legend (top right) leaves the centre free
+  s.height = 240;
+  s.samples = 4;
+  s.camera_position = Vector3d(0, 0, 2);
+  s.camera_target = Vector3d::Zero();
+  s.color = c;
+  s.range_max = range;
+  const Image image = Renderer().render(frame, look, fit_stage(frame, look, s), s);
+  const uint8_t* p = image.at(160, 120);
+  return {p[0], p[1], p[2]};
+}
+
+// Lit by white light, a sphere keeps the hue of its map's colour: the driving force's top is
+// YlGnBu's deep blue and its middle a teal; the damage Laplacian's ends are RdBu's red (+) and
+// blue (-). Values beyond the range take the end colour.
+TEST(Render, DrivingForceAndDamageLaplacianTakeTheirMapsColours) {
+  struct Case {
+    ColorBy c;
+    double value, range;
+    Rgb expected;
+  };
+  for (const Case& k : {Case{ColorBy::DrivingForce, 3, 3, driving_force_color(1)},
+                        Case{ColorBy::DrivingForce, 1.5, 3, driving_force_color(0.5)},
+                        Case{ColorBy::DamageLaplacian, 40, 40, diverging_color(1)},
+                        Case{ColorBy::DamageLaplacian, -40, 40, diverging_color(-1)},
+                        Case{ColorBy::DamageLaplacian, -20, 40, diverging_color(-0.5)}}) {
+    const std::array<uint8_t, 3> got = sphere_centre(k.c, k.value, k.range);
+    const uint8_t ref[3] = {uint8_t(k.expected[0] * 255), uint8_t(k.expected[1] * 255),
+                            uint8_t(k.expected[2] * 255)};
+    double dh = std::abs(hue(got.data()) - hue(ref));
+    dh = std::min(dh, 360 - dh);
+    EXPECT_LT(dh, 10) << color_by_name(k.c) << " " << k.value << ": " << int(got[0]) << " "
+                      << int(got[1]) << " " << int(got[2]);
+  }
+  // The known hues themselves: blue, red, blue.
+  EXPECT_NEAR(hue(sphere_centre(ColorBy::DrivingForce, 3, 3).data()), 228, 15);
+  EXPECT_GT(sphere_centre(ColorBy::DamageLaplacian, 40, 40)[0],
+            2 * sphere_centre(ColorBy::DamageLaplacian, 40, 40)[2]);
+  EXPECT_GT(sphere_centre(ColorBy::DamageLaplacian, -40, 40)[2],
+            2 * sphere_centre(ColorBy::DamageLaplacian, -40, 40)[0]);
+  // Clamped beyond the range; the range scales the map.
+  EXPECT_EQ(sphere_centre(ColorBy::DamageLaplacian, -400, 40),
+            sphere_centre(ColorBy::DamageLaplacian, -40, 40));
+  EXPECT_EQ(sphere_centre(ColorBy::DrivingForce, 3, 6),
+            sphere_centre(ColorBy::DrivingForce, 1.5, 3));
+  EXPECT_NE(sphere_centre(ColorBy::DrivingForce, 3, 6), sphere_centre(ColorBy::DrivingForce, 3, 3));
+}
+
+TEST(Render, ColourRangeIsTheLargestSpeedOrThe99thPercentile) {
+  std::vector<Vector3d> x(200, Vector3d::Zero()), v(200, Vector3d::Zero());
+  std::vector<double> value(200);
+  for (int i = 0; i < 200; ++i) value[size_t(i)] = i % 2 ? -double(i) : double(i);
+  v[7] = Vector3d(3, 4, 0);
+  const PointTable frame = make_frame(x, std::vector<double>(200, 0), v, value);
+  // |values| 0..199: the 99th percentile is the 198th smallest of 200 (index 0.99 * 199).
+  EXPECT_NEAR(color_range_top(frame, ColorBy::DamageLaplacian), 197, 1e-9);
+  EXPECT_NEAR(color_range_top(frame, ColorBy::DrivingForce), 197, 1e-9);
+  EXPECT_NEAR(color_range_top(frame, ColorBy::Velocity), 5, 1e-6);
+  EXPECT_EQ(color_range_top(frame, ColorBy::Damage), 0);
+  EXPECT_TRUE(has_range(ColorBy::DamageLaplacian) && !has_range(ColorBy::Fibers));
+  PointTable bare;
+  bare.count = 1;
+  bare.add("x", ColumnType::Float32, {0});
+  EXPECT_EQ(color_range_top(bare, ColorBy::DrivingForce), 0);
 }
 
 TEST(Render, ColourMapNamesRoundTrip) {
-  for (ColorBy c : {ColorBy::Damage, ColorBy::Material, ColorBy::Fibers, ColorBy::Velocity})
+  for (ColorBy c : {ColorBy::Damage, ColorBy::Material, ColorBy::Fibers, ColorBy::Velocity,
+                    ColorBy::DrivingForce, ColorBy::DamageLaplacian})
     EXPECT_EQ(parse_color_by(color_by_name(c)), c);
   EXPECT_THROW(parse_color_by("rainbow"), std::invalid_argument);
 }

@@ -71,6 +71,8 @@ TEST(SceneLoad, MinimalSceneGetsEveryDefault) {
   EXPECT_EQ(r["objects"][0]["fibers"]["center"].size(), 2u);
   EXPECT_EQ(r["boundaries"], json::array());
   EXPECT_EQ(r["output"]["formats"], json({"ply"}));
+  EXPECT_TRUE(s.output_fields.empty());
+  EXPECT_EQ(r["output"]["fields"], json::array());
 }
 
 TEST(SceneLoad, RichSceneIsParsed) {
@@ -148,6 +150,15 @@ TEST(SceneLoad, EveryPointFormatIsAccepted) {
   Scene s = parse_scene(doc, "rich.json");
   EXPECT_EQ(s.formats, (std::vector<std::string>{"vtu", "ply", "bgeo"}));
   EXPECT_EQ(s.resolved["output"]["formats"], json({"vtu", "ply", "bgeo"}));
+}
+
+// output.fields: the optional frame columns, in the order given.
+TEST(SceneLoad, OptionalFrameColumnsAreListed) {
+  json doc = rich_scene_3d();
+  doc["output"]["fields"] = {"damage_laplacian", "driving_force"};
+  Scene s = parse_scene(doc, "rich.json");
+  EXPECT_EQ(s.output_fields, (std::vector<std::string>{"damage_laplacian", "driving_force"}));
+  EXPECT_EQ(s.resolved["output"]["fields"], json({"damage_laplacian", "driving_force"}));
 }
 
 // The example of SCENE_FORMAT.md and of docs/scene_reference.md load as written, except

@@ -56,7 +56,7 @@ TEST(SceneRender, ErrorsNameThePathAndReason) {
       {R"({"colour": "damage"})", "render.colour: unknown key, did you mean \"color\"?"},
       {R"({"color": "rainbow"})",
        "render.color: unknown value \"rainbow\" (expected one of: damage, material, fibers, "
-       "velocity)"},
+       "velocity, driving_force, damage_laplacian)"},
       {R"({"width": 8})", "render.width: must be in [16, 16384], got 8"},
       {R"({"height": 1.5})", "render.height: must be an integer, got a number"},
       {R"({"samples": 0})", "render.samples: must be in [1, 1024], got 0"},

@@ -18,16 +18,17 @@ struct RenderArgs {
   std::vector<CLI::Option*> options;
   std::string color;
   int width = 0, height = 0, samples = 0;
-  bool surface = false, no_video = false;
+  bool surface = false, no_video = false, no_colliders = false;
   std::string space = "world";
   std::vector<double> position, target, up;
-  double fov = 0, radius = 0, velocity_max = 0;
+  double fov = 0, radius = 0, color_max = 0;
 
   void add(CLI::App* cmd) {
     auto keep = [&](CLI::Option* o) { options.push_back(o); };
     keep(cmd->add_option("--color", color,
-                         "Colour by damage, material, fibers or velocity (default: the scene's "
-                         "render.color, damage)")
+                         "Colour by damage, material, fibers, velocity, driving_force or "
+                         "damage_laplacian (the last two where the scene's output.fields wrote "
+                         "them; default: the scene's render.color, damage)")
              ->check(CLI::IsMember(std::vector<std::string>(std::begin(tear::RenderSpec::kColors),
                                                             std::end(tear::RenderSpec::kColors)))));
     keep(cmd->add_flag("--surface", surface,
@@ -59,9 +60,12 @@ struct RenderArgs {
     keep(cmd->add_option("--radius", radius,
                          "Sphere radius of every particle (default: half the particle spacing)")
              ->check(CLI::PositiveNumber));
-    keep(cmd->add_option("--velocity-max", velocity_max,
-                         "Speed at the top of the velocity colour map (default: the largest)")
+    keep(cmd->add_option("--color-max,--velocity-max", color_max,
+                         "Top of the velocity or driving_force colour map, or the ends +-V of "
+                         "damage_laplacian's (default: fitted to the frames)")
              ->check(CLI::PositiveNumber));
+    keep(cmd->add_flag("--no-colliders", no_colliders,
+                       "Leave the colliders out of the pictures (drawn translucent by default)"));
     keep(cmd->add_flag("--no-video", no_video, "Write the pictures only, no preview.mp4"));
     keep(cmd->add_option("--space", space,
                          "world (default): particles where they are; rest: each particle at its "
@@ -87,7 +91,8 @@ struct RenderArgs {
     if (given("--camera-up")) o.camera_up = vec(up);
     if (given("--fov")) o.fov_deg = fov;
     if (given("--radius")) o.radius = radius;
-    if (given("--velocity-max")) o.velocity_max = velocity_max;
+    if (given("--color-max")) o.color_max = color_max;
+    o.colliders = !no_colliders;
     o.video = !no_video;
     o.rest_space = space == "rest";
     return o;

@@ -88,8 +88,9 @@ void damage_to_grid(const Groups<Dim>& groups, SparseGrid<Dim>* grid, const Bloc
 
 // One sweep of a damage update over the damageable particles of the home blocks flagged in
 // `visit`: d_p <- rule(g, p, l0^2 (L d)_p, dt / eta_p), with the Laplacian of the grid field (0
-// outside the blocks flagged in `near`). Returns the largest change; marks in `hot` the visited
-// blocks that now hold damaged particles.
+// outside the blocks flagged in `near`), kept in Particles::damage_laplacian where a run writes
+// it to its frames. Returns the largest change; marks in `hot` the visited blocks that now hold
+// damaged particles.
 template <int Dim, class Rule>
 Real damage_sweep(Groups<Dim>* groups, const SparseGrid<Dim>& grid,
                   const std::vector<DamageParams>& params, Real l0, Real dt,
@@ -100,6 +101,7 @@ Real damage_sweep(Groups<Dim>* groups, const SparseGrid<Dim>& grid,
     Particles<Dim>& p = (*groups)[g];
     const ParticleBins<Dim>& bins = grid.bins(g);
     std::vector<Real> change(bins.home_blocks.size(), 0);
+    Real* const lap_out = p.enabled("damage_laplacian") ? p.damage_laplacian.data() : nullptr;
     parallel_for(bins.home_blocks.size(), [&](size_t b) {
       if (!visit[g][b]) return;
       Real block_most = 0;
@@ -126,6 +128,7 @@ Real damage_sweep(Groups<Dim>* groups, const SparseGrid<Dim>& grid,
           WindowStencil<Dim, kDamageOrder>(*window, p.x[q]).visit_laplacian(
               [&](int i, Real lap_w) { lap += lap_w * field[i]; });
         }
+        if (lap_out) lap_out[q] = lap;
         const Real old = p.damage[q];
         const Real d = rule(g, q, l2 * lap, dt / Real(dp.eta));
         p.damage[q] = d;

@@ -28,7 +28,11 @@ class MpmSimulation final : public Simulation {
       : settings_(mpm_settings(scene)),
         frame_dt_(scene.frame_dt),
         state_(make_mpm_state<Dim>(settings_, sample_scene<Dim>(scene))),
-        start_(std::chrono::steady_clock::now()) {}
+        start_(std::chrono::steady_clock::now()) {
+    // The optional frame columns the scene asks for (output.fields).
+    for (Particles<Dim>& g : state_.groups)
+      for (const std::string& name : scene.output_fields) g.enable(name);
+  }
 
   int dim() const override { return Dim; }
   size_t num_particles() const override { return state_.num_particles(); }

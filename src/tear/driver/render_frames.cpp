@@ -80,7 +80,7 @@ RenderSettings settings_of(const RenderSpec& spec, const RenderOverrides& o) {
   if (o.camera_up) st.camera_up = o.camera_up;
   st.fov_deg = o.fov_deg.value_or(spec.fov_deg);
   st.radius = o.radius.value_or(0);
-  if (o.velocity_max) st.velocity_max = *o.velocity_max;
+  if (o.color_max) st.range_max = *o.color_max;
   const int lo = RenderSpec::kMinSize, hi = RenderSpec::kMaxSize;
   if (st.width < lo || st.height < lo || st.width > hi || st.height > hi)
     throw std::runtime_error("picture size " + std::to_string(st.width) + "x" +
@@ -92,8 +92,7 @@ RenderSettings settings_of(const RenderSpec& spec, const RenderOverrides& o) {
   if (!(st.fov_deg > 0 && st.fov_deg < 180))
     throw std::runtime_error("--fov " + std::to_string(st.fov_deg) + ": must be in (0, 180)");
   if (o.radius && !(*o.radius > 0)) throw std::runtime_error("--radius: must be > 0");
-  if (o.velocity_max && !(*o.velocity_max > 0))
-    throw std::runtime_error("--velocity-max: must be > 0");
+  if (o.color_max && !(*o.color_max > 0)) throw std::runtime_error("--color-max: must be > 0");
   if (st.camera_up && !(st.camera_up->norm() > 0))
     throw std::runtime_error("--camera-up: must be non-zero");
   if (st.camera_position && st.camera_target && *st.camera_position == *st.camera_target)
@@ -168,6 +167,11 @@ std::vector<Eigen::Vector3d> collider_reach(const Scene& s) {
   return out;
 }
 
+// The frame column a colour map reads that only some runs write (scene output.fields), or null.
+const char* optional_column(ColorBy c) {
+  return c == ColorBy::DrivingForce || c == ColorBy::DamageLaplacian ? color_by_name(c) : nullptr;
+}
+
 // A frame sequence drawn with one camera.
 struct Sequence {
   std::string dir;
@@ -176,18 +180,21 @@ struct Sequence {
   Renderer renderer;
   std::optional<Stage> stage;
   double frame_dt = 1.0 / 24;
-  bool auto_velocity = true;  // the velocity map's top follows the largest speed seen
-  double top_speed = 0;
+  bool auto_range = true;  // the colour map's top follows the frames seen (color_range_top)
+  double top = 0;
   std::vector<Eigen::Vector3d> reach;  // what the picture must hold besides the first frame
+  std::vector<Collider> colliders;     // drawn where they are at each frame's time
   bool rest_space = false;
   std::optional<PointTable> rest;  // frame 0's id, x, y, z (rest space)
 
   Sequence(const std::string& d, const Scene& scene, const RenderOverrides& o)
       : dir(d), look(look_of(scene)), settings(settings_of(scene.render, o)) {
     frame_dt = scene.frame_dt;
-    auto_velocity = !o.velocity_max;
+    auto_range = !o.color_max;
     rest_space = o.rest_space;
     if (!rest_space) reach = collider_reach(scene);  // rest space stays where frame 0 is
+    // Colliders have no rest position: rest-space pictures show the body alone.
+    if (o.colliders && !rest_space) colliders = scene.boundaries;
   }
 
   // Keeps frame 0's positions for rest-space pictures.
@@ -225,17 +232,36 @@ struct Sequence {
     stage = fit_stage(shown(frame, first), look, settings, reach);
   }
 
-  void see_speed(const PointTable& t) {
-    if (auto_velocity && settings.color == ColorBy::Velocity)
-      top_speed = std::max(top_speed, max_speed(t));
+  void see_range(const PointTable& t) {
+    if (auto_range) top = std::max(top, color_range_top(t, settings.color));
   }
 
-  void draw(int frame, const PointTable& table) {
+  // The colliders' shapes where they are at the frame's time (those active then).
+  std::vector<Shape> colliders_at(int frame) const {
+    std::vector<Shape> out;
+    for (const Collider& c : colliders) {
+      const ColliderState state = collider_state(c, frame * frame_dt);
+      if (state.active) out.push_back(placed_shape(c, state));
+    }
+    return out;
+  }
+
+  // Throws when the frame lacks the optional column the colour map reads; `source` names the
+  // frame (its file).
+  void check(const PointTable& table, const std::string& source) const {
+    if (const char* column = optional_column(settings.color); column && !table.has(column))
+      throw std::runtime_error(source + ": no column '" + column + "' for --color " + column +
+                               ": the run did not write it (list \"" + column +
+                               "\" in the scene's output.fields and run it again)");
+  }
+
+  void draw(int frame, const PointTable& table, const std::string& source) {
+    check(table, source);
     if (!stage) fit(frame, table);
-    if (auto_velocity) settings.velocity_max = top_speed > 0 ? top_speed : 1;
-    const Image image = renderer.render(shown(frame, table), look, *stage, settings,
-                                        caption_of(frame, frame_dt) +
-                                            (rest_space ? "   REST SPACE" : ""));
+    if (auto_range) settings.range_max = top > 0 ? top : 1;
+    const Image image = renderer.render(
+        shown(frame, table), look, *stage, settings,
+        caption_of(frame, frame_dt) + (rest_space ? "   REST SPACE" : ""), colliders_at(frame));
     write_file_atomic(png_path(dir, frame), encode_png(image));
   }
 };
@@ -258,8 +284,8 @@ int render_frames(const RenderOptions& o) {
       return fail(scene_path + ": missing (is " + o.dir + " the output folder of tear run?)");
     const Scene scene = load_scene(scene_path);
     Sequence seq(o.dir, scene, o.overrides);
-    if (seq.settings.color == ColorBy::Velocity && seq.auto_velocity)
-      for (const FrameFile& f : files) seq.see_speed(read_frame(f.path));  // the run's top speed
+    if (seq.auto_range && has_range(seq.settings.color))
+      for (const FrameFile& f : files) seq.see_range(read_frame(f.path));  // the run's top
     if (seq.rest_space) {
       const std::vector<FrameFile> all = list_frames(o.dir);
       if (all.empty() || all.front().frame != 0)
@@ -272,6 +298,7 @@ int render_frames(const RenderOptions& o) {
     for (size_t i = 0; i < files.size(); ++i) {
       const PointTable table = read_frame(files[i].path);
       if (i == 0) {
+        seq.check(table, files[i].path);
         seq.fit(files[i].frame, table);
         if (!o.quiet) {
           const Camera& c = seq.stage->camera;
@@ -280,7 +307,7 @@ int render_frames(const RenderOptions& o) {
                        c.fov_deg);
         }
       }
-      seq.draw(files[i].frame, table);
+      seq.draw(files[i].frame, table, files[i].path);
       done.push_back(files[i].frame);
       if (!o.quiet) {
         const double wall = std::chrono::duration<double>(Clock::now() - start).count();
@@ -322,6 +349,11 @@ RunRenderer::RunRenderer(const std::string& dir, const Scene& scene,
                          const RenderOverrides& overrides, int threads)
     : impl_(std::make_unique<Impl>(dir, scene, overrides, threads)) {
   impl_->video = overrides.video;
+  const char* column = optional_column(impl_->seq.settings.color);
+  const std::vector<std::string>& fields = scene.output_fields;
+  if (column && std::find(fields.begin(), fields.end(), column) == fields.end())
+    throw std::runtime_error(std::string("--color ") + column + ": the run does not write '" +
+                             column + "' (list \"" + column + "\" in the scene's output.fields)");
 }
 
 RunRenderer::~RunRenderer() = default;
@@ -340,8 +372,8 @@ void RunRenderer::resume(int frame) {
     const PointTable table = read_frame(f.path);
     if (f.frame == 0) seq.set_rest(table);
     if (!seq.stage) seq.fit(f.frame, table);  // frame 0: the camera of the uninterrupted run
-    seq.see_speed(table);
-    if (!fs::exists(png_path(seq.dir, f.frame))) seq.draw(f.frame, table);
+    seq.see_range(table);
+    if (!fs::exists(png_path(seq.dir, f.frame))) seq.draw(f.frame, table, f.path);
   }
 }
 
@@ -349,8 +381,8 @@ void RunRenderer::render(int frame, const PointTable& table) {
   Sequence& seq = impl_->seq;
   if (!seq.stage) make_directories((fs::path(seq.dir) / "render").string());
   if (frame == 0) seq.set_rest(table);
-  seq.see_speed(table);
-  seq.draw(frame, table);
+  seq.see_range(table);
+  seq.draw(frame, table, "frame " + std::to_string(frame));
 }
 
 std::string RunRenderer::finish() {

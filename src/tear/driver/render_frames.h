@@ -15,15 +15,17 @@ struct PointTable;
 
 // Command-line options that override the scene's "render" section (unset: the scene's value).
 struct RenderOverrides {
-  std::optional<std::string> color;  // damage, material, fibers, velocity
+  std::optional<std::string> color;  // a RenderSpec::kColors name
   std::optional<int> width, height, samples;
   bool surface = false;  // --surface (the scene's render.surface otherwise)
   std::optional<Eigen::Vector3d> camera_position, camera_target, camera_up;
   std::optional<double> fov_deg;
   std::optional<double> radius;        // sphere radius of every particle
-  std::optional<double> velocity_max;  // fixes the top of the velocity map
+  std::optional<double> color_max;     // fixes the top (range) of the velocity, driving-force and
+                                       // damage-Laplacian maps
   bool video = true;                   // false: --no-video
   bool rest_space = false;             // --space rest: particles at their frame-0 positions
+  bool colliders = true;               // false: --no-colliders
 };
 
 struct RenderOptions {

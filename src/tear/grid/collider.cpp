@@ -37,6 +37,15 @@ ColliderState collider_state(const Collider& c, double time) {
   return s;
 }
 
+Shape placed_shape(const Collider& c, const ColliderState& s) {
+  // x -> centre0 + displacement + R (x - centre0) after x_world = t + Q (scale x_local).
+  Shape placed = c.shape;
+  ShapeTransform& t = placed.transform;
+  t.translate = s.center0 + s.displacement + s.rotation * (t.translate - s.center0);
+  t.rotate = s.rotation * t.rotate;
+  return placed;
+}
+
 template <int Dim>
 void apply_colliders(SparseGrid<Dim>& grid, ContactType walls,
                      const std::vector<Collider>& colliders, double time) {

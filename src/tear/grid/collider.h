@@ -43,6 +43,11 @@ struct ColliderState {
 
 ColliderState collider_state(const Collider& c, double time);
 
+// The collider's shape where `state` puts it: the rigid motion folded into the shape's
+// transform, so that placed.sdf(p) is the rest shape's distance at the point that moves to p
+// (for pictures: render/ draws shapes, not colliders).
+Shape placed_shape(const Collider& c, const ColliderState& state);
+
 // Apply domain walls and every active collider to the grid velocities at `time` (both fields
 // of a node where the crack fields are split).
 template <int Dim>

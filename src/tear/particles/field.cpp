@@ -11,10 +11,12 @@ size_t FieldRegistry::size() const {
 }
 
 void FieldRegistry::add_derived(FieldColumns columns,
-                                void (*value)(const FieldRegistry&, size_t, double*)) {
+                                void (*value)(const FieldRegistry&, size_t, double*),
+                                bool optional) {
   Entry e;
   e.info_.name = columns.names.empty() ? std::string() : columns.names[0];
   e.info_.role = FieldRole::Scratch;
+  e.info_.optional = optional;
   e.info_.columns = std::move(columns);
   e.derived_ = value;
   entries_.push_back(std::move(e));
@@ -68,7 +70,14 @@ void FieldRegistry::enable(const std::string& name) {
   const size_t k = index_of(*e);
   if (enabled_[k]) return;
   enabled_[k] = 1;
-  e->resize_(at(*e), size(), e->default_.data());
+  if (!e->derived()) e->resize_(at(*e), size(), e->default_.data());
+}
+
+std::vector<std::string> FieldRegistry::optional_columns() const {
+  std::vector<std::string> names;
+  for (const Entry& e : entries_)
+    if (e.info_.optional && !e.info_.columns.names.empty()) names.push_back(e.info_.name);
+  return names;
 }
 
 void FieldRegistry::enable_like(const FieldRegistry& other) {

@@ -134,8 +134,9 @@ class FieldRegistry {
   // the others.
   void erase(const std::vector<uint32_t>& which);
 
-  // Enable an optional field (sized to the store); enabling an enabled field does nothing.
-  // Throws std::invalid_argument for a name the store does not declare or that is not optional.
+  // Enable an optional field (sized to the store; an optional derived entry starts writing its
+  // columns); enabling an enabled field does nothing. Throws std::invalid_argument for a name
+  // the store does not declare or that is not optional.
   void enable(const std::string& name);
   bool enabled(const std::string& name) const;
   // Enable the optional fields that `other` (a store of the same type) has enabled.
@@ -143,6 +144,8 @@ class FieldRegistry {
   bool enabled(const Entry& e) const { return !e.info().optional || enabled_[index_of(e)]; }
   // Whether the entry holds values here: enabled and not derived.
   bool stored(const Entry& e) const;
+  // Names of the optional entries with frame columns: what a run may add to its frames.
+  std::vector<std::string> optional_columns() const;
 
   const std::vector<Entry>& entries() const { return entries_; }
   const Entry* find(const std::string& name) const;
@@ -173,7 +176,8 @@ class FieldRegistry {
   template <class T>
   friend class Field;
   friend class DerivedColumns;
-  void add_derived(FieldColumns columns, void (*value)(const FieldRegistry&, size_t, double*));
+  void add_derived(FieldColumns columns, void (*value)(const FieldRegistry&, size_t, double*),
+                   bool optional);
   void* at(const Entry& e) { return reinterpret_cast<char*>(this) + e.offset_; }
   const void* at(const Entry& e) const { return reinterpret_cast<const char*>(this) + e.offset_; }
   size_t index_of(const Entry& e) const { return size_t(&e - entries_.data()); }
@@ -201,12 +205,13 @@ class Field : public std::vector<T> {
 
 // Frame columns computed from a store's fields (the world-space fiber from F and the rest
 // frame): declared like a field, stored nowhere. `value(store, i, out)` writes one number per
-// column name.
+// column name. Optional ones are written only where the store enables them (by the first
+// column's name).
 class DerivedColumns {
  public:
   DerivedColumns(FieldRegistry* store, FieldColumns columns,
-                 void (*value)(const FieldRegistry&, size_t, double*)) {
-    store->add_derived(std::move(columns), value);
+                 void (*value)(const FieldRegistry&, size_t, double*), bool optional = false) {
+    store->add_derived(std::move(columns), value, optional);
   }
 };
 

@@ -24,6 +24,12 @@ void Particles<Dim>::world_fiber_of(const FieldRegistry& store, size_t i, double
   for (int d = 0; d < 3; ++d) out[d] = d < Dim ? double(a[d]) : 0.0;
 }
 
+template <int Dim>
+void Particles<Dim>::driving_force_of(const FieldRegistry& store, size_t i, double* out) {
+  const auto& p = static_cast<const Particles<Dim>&>(store);
+  out[0] = p.drive.size() > i ? double(p.drive[i]) : 0.0;
+}
+
 template struct Particles<2>;
 template struct Particles<3>;
 

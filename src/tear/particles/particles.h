@@ -17,7 +17,8 @@ namespace tear {
 enum class GroupKind { Volumetric };
 
 // One particle group. Frame files list the columns in declaration order: id, x y z, vx vy vz,
-// damage, material, fx fy fz (ARCHITECTURE.md "Outputs").
+// damage, material, fx fy fz (ARCHITECTURE.md "Outputs"), then the optional columns a run asks
+// for (scene output.fields): driving_force, damage_laplacian.
 template <int Dim>
 struct Particles : FieldRegistry {
   using V = Vec<Dim>;
@@ -58,12 +59,23 @@ struct Particles : FieldRegistry {
   Field<Real> J{this, scratch_field("J"), 1};
   // This step's damage gradient, where crack fields are split (mpm/crack_fields.cpp).
   Field<V> damage_gradient{this, optional_scratch_field("damage_gradient"), V::Zero()};
+  // Optional frame columns. The crack driving force the damage update used, Dtilde (`drive`;
+  // 0 where damage is not simulated).
+  DerivedColumns driving_force{
+      this, {{"driving_force"}, ColumnType::Float32}, &driving_force_of, true};
+  // The damage Laplacian (L d)_p the damage update took this step (damage/phase_field.h; with
+  // an anisotropic crack surface, M_p : grad grad d): state, so that it stays with its particle
+  // through reorders and migrations until the frame is written.
+  Field<Real> damage_laplacian{
+      this, optional_state_field("damage_laplacian", {{"damage_laplacian"}, ColumnType::Float32}),
+      0};
 
   // Append one particle at rest (F = I, C = 0, d = 0) with id = its index.
   void push_back(const V& pos, const V& vel, const M& frame, Real m, Real v0, uint16_t mat);
 
  private:
   static void world_fiber_of(const FieldRegistry& store, size_t i, double* out);
+  static void driving_force_of(const FieldRegistry& store, size_t i, double* out);
 };
 
 }  // namespace tear

@@ -7,38 +7,45 @@ namespace tear {
 
 namespace {
 
-// Piecewise-linear through `n` equally spaced sRGB stops (0xRRGGBB).
-Rgb ramp(const unsigned* stops, int n, double t) {
+// The maps' nine equally spaced sRGB stops (0xRRGGBB).
+constexpr unsigned kYlOrRd[9] = {0xffffcc, 0xffeda0, 0xfed976, 0xfeb24c, 0xfd8d3c,
+                                 0xfc4e2a, 0xe31a1c, 0xbd0026, 0x800026};
+constexpr unsigned kYlGnBu[9] = {0xffffd9, 0xedf8b1, 0xc7e9b4, 0x7fcdbb, 0x41b6c4,
+                                 0x1d91c0, 0x225ea8, 0x253494, 0x081d58};
+constexpr unsigned kBuRd[9] = {0x2166ac, 0x4393c3, 0x92c5de, 0xd1e5f0, 0xf7f7f7,
+                               0xfddbc7, 0xf4a582, 0xd6604d, 0xb2182b};  // RdBu reversed
+constexpr unsigned kViridis[9] = {0x440154, 0x472d7b, 0x3b528b, 0x2c728e, 0x21918c,
+                                  0x28ae80, 0x5ec962, 0xaddc30, 0xfde725};
+
+Rgb hex_rgb(unsigned c) {
+  return Rgb(float((c >> 16) & 255) / 255, float((c >> 8) & 255) / 255, float(c & 255) / 255);
+}
+
+// Piecewise-linear through the stops.
+Rgb ramp(const unsigned (&stops)[9], double t) {
+  constexpr int n = 9;
   if (!(t >= 0)) t = 0;  // NaN too
   if (t > 1) t = 1;
   const double x = t * (n - 1);
   const int i = std::min(int(x), n - 2);
   const float w = float(x - i);
-  auto rgb = [](unsigned c) {
-    return Rgb(float((c >> 16) & 255) / 255, float((c >> 8) & 255) / 255, float(c & 255) / 255);
-  };
-  return (1 - w) * rgb(stops[i]) + w * rgb(stops[i + 1]);
+  return (1 - w) * hex_rgb(stops[i]) + w * hex_rgb(stops[i + 1]);
 }
 
 }  // namespace
 
-Rgb damage_color(double d) {
-  static const unsigned kYlOrRd[] = {0xffffcc, 0xffeda0, 0xfed976, 0xfeb24c, 0xfd8d3c,
-                                     0xfc4e2a, 0xe31a1c, 0xbd0026, 0x800026};
-  return ramp(kYlOrRd, 9, d);
-}
+Rgb damage_color(double d) { return ramp(kYlOrRd, d); }
 
-Rgb viridis_color(double t) {
-  static const unsigned kViridis[] = {0x440154, 0x472d7b, 0x3b528b, 0x2c728e, 0x21918c,
-                                      0x28ae80, 0x5ec962, 0xaddc30, 0xfde725};
-  return ramp(kViridis, 9, t);
-}
+Rgb driving_force_color(double t) { return ramp(kYlGnBu, t); }
+
+Rgb diverging_color(double v) { return ramp(kBuRd, std::isfinite(v) ? 0.5 + 0.5 * v : 0.5); }
+
+Rgb viridis_color(double t) { return ramp(kViridis, t); }
 
 Rgb material_color(int index) {
   static const unsigned kTableau10[] = {0x4e79a7, 0xf28e2b, 0xe15759, 0x76b7b2, 0x59a14f,
                                         0xedc948, 0xb07aa1, 0xff9da7, 0x9c755f, 0xbab0ac};
-  const unsigned c = kTableau10[((index % 10) + 10) % 10];
-  return Rgb(float((c >> 16) & 255) / 255, float((c >> 8) & 255) / 255, float(c & 255) / 255);
+  return hex_rgb(kTableau10[((index % 10) + 10) % 10]);
 }
 
 Rgb fiber_color(double fx, double fy, double fz) {
@@ -48,6 +55,10 @@ Rgb fiber_color(double fx, double fy, double fz) {
 
 float srgb_to_linear(float c) {
   return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+Eigen::Vector3f linear_rgb(const Rgb& c) {
+  return Eigen::Vector3f(srgb_to_linear(c[0]), srgb_to_linear(c[1]), srgb_to_linear(c[2]));
 }
 
 float linear_to_srgb(float c) {

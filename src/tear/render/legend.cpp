@@ -47,6 +47,16 @@ Layout layout(const Legend& legend, int width, int height) {
       L.top = label_number(legend.max);
       L.bottom = "0";
       break;
+    case ColorBy::DrivingForce:
+      L.title = "DRIVING FORCE";
+      L.top = label_number(legend.max);
+      L.bottom = "0";
+      break;
+    case ColorBy::DamageLaplacian:
+      L.title = "DAMAGE LAPLACIAN";
+      L.top = label_number(legend.max);
+      L.bottom = label_number(-legend.max);
+      break;
     case ColorBy::Material: {
       L.title = "MATERIAL";
       L.bar = false;
@@ -134,7 +144,10 @@ void draw_legend(Image* image, const Legend& legend) {
     for (int k = 0; k < L.bar_h; ++k) {
       // Top row is the map's end (cracked, fastest).
       const double t = 1 - (k + 0.5) / L.bar_h;
-      const Rgb c = legend.color == ColorBy::Damage ? damage_color(t) : viridis_color(t);
+      const Rgb c = legend.color == ColorBy::Damage            ? damage_color(t)
+                    : legend.color == ColorBy::DrivingForce    ? driving_force_color(t)
+                    : legend.color == ColorBy::DamageLaplacian ? diverging_color(2 * t - 1)
+                                                               : viridis_color(t);
       fill(image, x, y + k, L.bar_w, 1, to8(c));
     }
     draw_text(image, x + L.bar_w + gap, y, L.top, L.s, kInk);

@@ -11,7 +11,7 @@ namespace tear {
 
 struct Legend {
   ColorBy color = ColorBy::Damage;
-  double max = 1;                           // velocity: speed at the top of the bar
+  double max = 1;  // velocity, driving force: top of the bar; damage Laplacian: its ends +-max
   int dim = 3;                              // fibers: x y, or x y z
   std::vector<std::string> material_names;  // material: one swatch per name
 };

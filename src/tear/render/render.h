@@ -1,7 +1,8 @@
 // render/: the headless preview renderer behind `tear render` and `tear run --render`: frames
 // (point tables) ray traced with Embree as spheres or as their surface mesh, lit by a soft key
 // light and a sky with ambient occlusion over a ground plane, with a legend; PNG out, video via
-// ffmpeg (video.h). Knows point tables and meshes; knows nothing of scenes, grids or solvers.
+// ffmpeg (video.h), and the colliders as translucent shapes (collider_layer.h). Knows point
+// tables, meshes and shapes; knows nothing of scenes, grids or solvers.
 #pragma once
 
 #include <Eigen/Core>
@@ -10,16 +11,18 @@
 #include <string>
 #include <vector>
 
+#include "tear/geometry/shape.h"
 #include "tear/io/point_table.h"
 #include "tear/render/camera.h"
 #include "tear/render/image.h"
 
 namespace tear {
 
-// What the particles are coloured by.
-enum class ColorBy { Damage, Material, Fibers, Velocity };
+// What the particles are coloured by: the frame columns damage, material, fx fy fz, vx vy vz,
+// driving_force, damage_laplacian (the last two only where the run wrote them).
+enum class ColorBy { Damage, Material, Fibers, Velocity, DrivingForce, DamageLaplacian };
 
-// "damage", "material", "fibers", "velocity".
+// "damage", "material", "fibers", "velocity", "driving_force", "damage_laplacian".
 const char* color_by_name(ColorBy c);
 // The inverse; throws std::invalid_argument naming the choices.
 ColorBy parse_color_by(const std::string& name);
@@ -45,7 +48,9 @@ struct RenderSettings {
   // Camera: unset parts are fitted to the first frame (fit_stage).
   std::optional<Eigen::Vector3d> camera_position, camera_target, camera_up;
   double fov_deg = 40;      // vertical field of view
-  double velocity_max = 1;  // speed at the top of the velocity map (the driver scales it)
+  // Top of the velocity and driving-force maps, and the ends (-range_max, range_max) of the
+  // damage Laplacian's (the driver fits it to the frames: color_range_top).
+  double range_max = 1;
 };
 
 // The parts of a picture that stay fixed over a sequence: fitted to its first frame.
@@ -76,10 +81,12 @@ class Renderer {
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
-  // One picture of `frame` with the legend of settings.color and `caption` (top left) drawn in.
+  // One picture of `frame` with the legend of settings.color and `caption` (top left) drawn in,
+  // and `colliders` (shapes where they are at the frame's time) over it (collider_layer.h).
   // Throws std::runtime_error when a column the colour map needs is missing.
   Image render(const PointTable& frame, const RenderLook& look, const Stage& stage,
-               const RenderSettings& settings, const std::string& caption = "") const;
+               const RenderSettings& settings, const std::string& caption = "",
+               const std::vector<Shape>& colliders = {}) const;
 
  private:
   struct Device;
@@ -91,5 +98,13 @@ const char* embree_version();
 
 // Largest speed |(vx, vy, vz)| in a frame (0 without velocity columns).
 double max_speed(const PointTable& frame);
+// Whether the map `c` has a range fitted to the frames (velocity, driving force, damage
+// Laplacian), RenderSettings::range_max.
+bool has_range(ColorBy c);
+// Where a frame puts the top of the colour map `c` (RenderSettings::range_max): the largest
+// speed for velocity; for the driving force and |damage Laplacian|, the 99th percentile of the
+// particles' values, so that a few extreme particles (next to a grip) do not wash out the rest.
+// 0 for the other maps and without the columns.
+double color_range_top(const PointTable& frame, ColorBy c);
 
 }  // namespace tear

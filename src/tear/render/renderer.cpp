@@ -1,8 +1,10 @@
 // Ray tracing a frame with Embree 3: spheres (or the surface mesh) over an analytic ground plane,
 // a soft key light with shadows and a sky with ambient occlusion; a few samples per pixel from
 // a low-discrepancy sequence rotated per pixel, so every pixel is computed on its own and the
-// picture does not depend on the thread count.
+// picture does not depend on the thread count. Colliders are composited over what each ray sees
+// (collider_layer.h).
 #include "tear/exec/parallel.h"
+#include "tear/render/collider_layer.h"
 #include "tear/render/color_map.h"
 #include "tear/render/legend.h"
 #include "tear/render/render.h"
@@ -17,6 +19,7 @@
 #include <cmath>
 #include <limits>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -72,13 +75,10 @@ void tangents(const Vector3d& n, Vector3d* t, Vector3d* b) {
   *b = Vector3d(c, sign + n.y() * n.y() * a, -n.y());
 }
 
-Vector3f linear(const Rgb& c) {
-  return Vector3f(srgb_to_linear(c[0]), srgb_to_linear(c[1]), srgb_to_linear(c[2]));
-}
-
 // Display colour of every point for the chosen map.
 std::vector<Vector3f> point_albedo(const PointTable& frame, const RenderSettings& settings) {
   std::vector<Vector3f> out(frame.count);
+  const double top = settings.range_max > 0 ? settings.range_max : 1;
   auto need = [&](const char* name) -> const std::vector<double>& {
     if (!frame.has(name))
       throw std::runtime_error(std::string("--color ") + color_by_name(settings.color) +
@@ -88,29 +88,40 @@ std::vector<Vector3f> point_albedo(const PointTable& frame, const RenderSettings
   switch (settings.color) {
     case ColorBy::Damage: {
       const std::vector<double>& d = need("damage");
-      for (size_t i = 0; i < frame.count; ++i) out[i] = linear(damage_color(float(d[i])));
+      for (size_t i = 0; i < frame.count; ++i) out[i] = linear_rgb(damage_color(float(d[i])));
       break;
     }
     case ColorBy::Material: {
       const std::vector<double>& m = need("material");
-      for (size_t i = 0; i < frame.count; ++i) out[i] = linear(material_color(int(m[i])));
+      for (size_t i = 0; i < frame.count; ++i) out[i] = linear_rgb(material_color(int(m[i])));
       break;
     }
     case ColorBy::Fibers: {
       const std::vector<double>&fx = need("fx"), &fy = need("fy");
       const std::vector<double>* fz = frame.has("fz") ? &frame.column("fz") : nullptr;
       for (size_t i = 0; i < frame.count; ++i)
-        out[i] = linear(fiber_color(float(fx[i]), float(fy[i]), fz ? float((*fz)[i]) : 0.0f));
+        out[i] = linear_rgb(fiber_color(float(fx[i]), float(fy[i]), fz ? float((*fz)[i]) : 0.0f));
       break;
     }
     case ColorBy::Velocity: {
       const std::vector<double>&vx = need("vx"), &vy = need("vy");
       const std::vector<double>* vz = frame.has("vz") ? &frame.column("vz") : nullptr;
-      const double top = settings.velocity_max > 0 ? settings.velocity_max : 1;
       for (size_t i = 0; i < frame.count; ++i) {
         const double a = float(vx[i]), b = float(vy[i]), c = vz ? float((*vz)[i]) : 0.0f;
-        out[i] = linear(viridis_color(std::sqrt(a * a + b * b + c * c) / top));
+        out[i] = linear_rgb(viridis_color(std::sqrt(a * a + b * b + c * c) / top));
       }
+      break;
+    }
+    case ColorBy::DrivingForce: {
+      const std::vector<double>& D = need("driving_force");
+      for (size_t i = 0; i < frame.count; ++i)
+        out[i] = linear_rgb(driving_force_color(float(D[i]) / top));
+      break;
+    }
+    case ColorBy::DamageLaplacian: {
+      const std::vector<double>& L = need("damage_laplacian");
+      for (size_t i = 0; i < frame.count; ++i)
+        out[i] = linear_rgb(diverging_color(float(L[i]) / top));
       break;
     }
   }
@@ -314,7 +325,7 @@ std::vector<Vector3f> vertex_albedo(const std::vector<Vector3f>& vertices,
     if (centre[i].allFinite())
       grid[key_of(cell_of(centre[i], 0), cell_of(centre[i], 1), cell_of(centre[i], 2))].push_back(
           uint32_t(i));
-  std::vector<Vector3f> out(vertices.size(), linear(Rgb(0.8f, 0.8f, 0.8f)));
+  std::vector<Vector3f> out(vertices.size(), linear_rgb(Rgb(0.8f, 0.8f, 0.8f)));
   parallel_for(vertices.size(), [&](size_t v) {
     const Vector3f& p = vertices[v];
     const int64_t ci = cell_of(p, 0), cj = cell_of(p, 1), ck = cell_of(p, 2);
@@ -383,9 +394,12 @@ struct Tracer {
   Vector3d up, key;
   double cos_key, eps, ao_reach;
   Vector3f top, bottom;  // background, linear
+  std::optional<ColliderLayer> colliders;  // none: nothing to draw
+  bool flat;                               // 2D: colliders lie over the particles
 
-  Tracer(const Geometry& g, const Stage& st, const RenderLook& look, int n)
-      : geo(g), stage(st), samples(n), view(st.camera.view()) {
+  Tracer(const Geometry& g, const Stage& st, const RenderLook& look, int n,
+         const std::vector<Shape>& shapes)
+      : geo(g), stage(st), samples(n), view(st.camera.view()), flat(look.dim == 2) {
     up = look.up.normalized();
     // Key light from above, in front of the body and to the left as the camera sees it.
     const Vector3d &forward = view.forward, &right = view.right;
@@ -396,8 +410,12 @@ struct Tracer {
     cos_key = std::cos(kKeyConeDeg * M_PI / 180);
     eps = 1e-5 * st.size;
     ao_reach = kAoReach * st.size;
-    top = linear(kBackgroundTop);
-    bottom = linear(kBackgroundBottom);
+    top = linear_rgb(kBackgroundTop);
+    bottom = linear_rgb(kBackgroundBottom);
+    if (!shapes.empty()) {
+      colliders.emplace(shapes, look.dim, view, up, st.ground, key, st.center, st.size);
+      if (colliders->empty()) colliders.reset();
+    }
   }
 
   Vector3f background(double fy) const {
@@ -449,29 +467,37 @@ struct Tracer {
     }
     double t;
     Surface hit;
-    if (geo.intersect(ctx, eye, d, t_ground, &t, &hit))
-      return shade(ctx, hit.p, hit.n, hit.ng, hit.albedo, sm, s);
-    const Vector3f bg = background(py / stage.camera.height);
-    if (!std::isfinite(t_ground)) return bg;
-    // The ground, fading into the background with distance from the body.
-    const Vector3d p = eye + t_ground * d;
-    const Vector3f g =
-        shade(ctx, p, up, up, Vector3f::Constant(srgb_to_linear(kGroundAlbedo)), sm, s);
-    const Vector3d off = p - stage.center;
-    const double dist = (off - off.dot(up) * up).norm() / (2.5 * stage.size);
-    const float fog = float(std::exp(-dist * dist));
-    return fog * g + (1 - fog) * bg;
+    Vector3f c;
+    double depth = t_ground;  // of what the ray sees
+    if (geo.intersect(ctx, eye, d, t_ground, &t, &hit)) {
+      c = shade(ctx, hit.p, hit.n, hit.ng, hit.albedo, sm, s);
+      depth = t;
+    } else {
+      c = background(py / stage.camera.height);
+      if (std::isfinite(t_ground)) {
+        // The ground, fading into the background with distance from the body.
+        const Vector3d p = eye + t_ground * d;
+        const Vector3f g =
+            shade(ctx, p, up, up, Vector3f::Constant(srgb_to_linear(kGroundAlbedo)), sm, s);
+        const float fog = float(distance_fade(p, stage.center, up, stage.size));
+        c = fog * g + (1 - fog) * c;
+      }
+    }
+    if (!colliders) return c;
+    // In 2D the colliders lie over the particles: only the ground hides them.
+    return colliders->over(d, flat ? t_ground : depth, c);
   }
 };
 
 }  // namespace
 
 Image Renderer::render(const PointTable& frame, const RenderLook& look, const Stage& stage,
-                       const RenderSettings& settings, const std::string& caption) const {
+                       const RenderSettings& settings, const std::string& caption,
+                       const std::vector<Shape>& colliders) const {
   Geometry geo(device_->device, frame, look, settings);
   device_->check();
   const int w = stage.camera.width, h = stage.camera.height, n = std::max(1, settings.samples);
-  const Tracer tracer(geo, stage, look, n);
+  const Tracer tracer(geo, stage, look, n, colliders);
   Image image(w, h);
   parallel_for_tiles(h, w, 16, [&](int y0, int y1, int x0, int x1) {
     RTCIntersectContext ctx;
@@ -492,7 +518,7 @@ Image Renderer::render(const PointTable& frame, const RenderLook& look, const St
   device_->check();
   Legend legend;
   legend.color = settings.color;
-  legend.max = settings.velocity_max;
+  legend.max = settings.range_max;
   legend.dim = look.dim;
   legend.material_names = look.material_names;
   if (legend.material_names.empty() && frame.has("material")) {

@@ -40,15 +40,21 @@ const char* color_by_name(ColorBy c) {
     case ColorBy::Material: return "material";
     case ColorBy::Fibers: return "fibers";
     case ColorBy::Velocity: return "velocity";
+    case ColorBy::DrivingForce: return "driving_force";
+    case ColorBy::DamageLaplacian: return "damage_laplacian";
   }
   return "damage";
 }
 
 ColorBy parse_color_by(const std::string& name) {
-  for (ColorBy c : {ColorBy::Damage, ColorBy::Material, ColorBy::Fibers, ColorBy::Velocity})
+  std::string names;
+  for (ColorBy c : {ColorBy::Damage, ColorBy::Material, ColorBy::Fibers, ColorBy::Velocity,
+                    ColorBy::DrivingForce, ColorBy::DamageLaplacian}) {
     if (name == color_by_name(c)) return c;
-  throw std::invalid_argument("unknown colour map \"" + name +
-                              "\" (expected one of: damage, material, fibers, velocity)");
+    names += std::string(names.empty() ? "" : ", ") + color_by_name(c);
+  }
+  throw std::invalid_argument("unknown colour map \"" + name + "\" (expected one of: " + names +
+                              ")");
 }
 
 std::vector<float> particle_radii(const PointTable& frame, const RenderLook& look,
@@ -77,6 +83,26 @@ double max_speed(const PointTable& frame) {
     if (std::isfinite(s2)) best = std::max(best, std::sqrt(s2));
   }
   return best;
+}
+
+bool has_range(ColorBy c) {
+  return c == ColorBy::Velocity || c == ColorBy::DrivingForce || c == ColorBy::DamageLaplacian;
+}
+
+double color_range_top(const PointTable& frame, ColorBy c) {
+  if (c == ColorBy::Velocity) return max_speed(frame);
+  // The other maps with a range are named after their frame column.
+  const char* name = color_by_name(c);
+  if (!has_range(c) || !frame.has(name) || frame.count == 0) return 0;
+  // Stored precision (float), as for the speeds: a frame gives the same from memory and file.
+  std::vector<double> size;
+  size.reserve(frame.count);
+  for (double v : frame.column(name))
+    if (std::isfinite(float(v))) size.push_back(std::abs(double(float(v))));
+  if (size.empty()) return 0;
+  const size_t k = size_t(0.99 * double(size.size() - 1));
+  std::nth_element(size.begin(), size.begin() + long(k), size.end());
+  return size[k];
 }
 
 Stage fit_stage(const PointTable& first, const RenderLook& look, const RenderSettings& settings,

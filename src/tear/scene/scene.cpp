@@ -4,6 +4,7 @@
 #include "tear/scene/scene.h"
 
 #include "tear/io/frames.h"
+#include "tear/particles/particles.h"
 #include "tear/scene/scene_parts.h"
 
 #include <algorithm>
@@ -124,11 +125,32 @@ json parse_damage(const Reader& r, const json& doc, Scene* s) {
           {"split_damage", ds.split_damage}};
 }
 
+// The array of strings at `path`: distinct, each one of `allowed` (`what` names one in errors).
+std::vector<std::string> distinct_names(const Reader& r, const json& v, const std::string& path,
+                                        const std::vector<std::string>& allowed,
+                                        const std::string& what) {
+  if (!v.is_array()) r.fail(path, "must be an array of strings, got " + type_desc(v));
+  std::string list;
+  for (const std::string& a : allowed) list += (list.empty() ? "" : ", ") + a;
+  std::vector<std::string> names;
+  for (size_t i = 0; i < v.size(); ++i) {
+    std::string p = index_path(path, i);
+    if (!v[i].is_string()) r.fail(p, "must be a string, got " + type_desc(v[i]));
+    std::string name = v[i].get<std::string>();
+    if (std::find(allowed.begin(), allowed.end(), name) == allowed.end())
+      r.fail(p, "unknown " + what + " \"" + name + "\" (expected one of: " + list + ")");
+    for (const std::string& seen : names)
+      r.check(seen != name, p, "duplicate " + what + " \"" + name + "\"");
+    names.push_back(name);
+  }
+  return names;
+}
+
 json parse_output(const Reader& r, const json& doc, Scene* s) {
   static const json kEmpty = json::object();
   const json* o = r.find(doc, "output");
   if (!o) o = &kEmpty;
-  r.object(*o, "output", {"every", "formats", "checkpoint_every"});
+  r.object(*o, "output", {"every", "formats", "checkpoint_every", "fields"});
   long long every = r.integer(*o, "output", "every", 1);
   r.check(every >= 1 && every <= 1000000000, "output.every",
           "must be >= 1, got " + std::to_string(every));
@@ -139,26 +161,18 @@ json parse_output(const Reader& r, const json& doc, Scene* s) {
   s->checkpoint_every = int(ck);
   s->formats = {"ply"};
   if (const json* f = r.find(*o, "formats")) {
-    if (!f->is_array())
-      r.fail("output.formats", "must be an array of strings, got " + type_desc(*f));
+    s->formats = distinct_names(r, *f, "output.formats", point_formats(), "format");
     // Frames are always written; an empty list would be silently ignored.
-    r.check(!f->empty(), "output.formats", "must name at least one format (ply)");
-    s->formats.clear();
-    for (size_t i = 0; i < f->size(); ++i) {
-      std::string p = index_path("output.formats", i);
-      const json& v = (*f)[i];
-      if (!v.is_string()) r.fail(p, "must be a string, got " + type_desc(v));
-      std::string name = v.get<std::string>();
-      if (!is_point_format(name))
-        r.fail(p, "unknown format \"" + name + "\" (expected one of: " + point_format_list() +
-                      ")");
-      for (const std::string& seen : s->formats)
-        r.check(seen != name, p, "duplicate format \"" + name + "\"");
-      s->formats.push_back(name);
-    }
+    r.check(!s->formats.empty(), "output.formats", "must name at least one format (ply)");
   }
-  return {{"every", s->output_every}, {"formats", s->formats},
-          {"checkpoint_every", s->checkpoint_every}};
+  s->output_fields.clear();
+  if (const json* f = r.find(*o, "fields"))
+    s->output_fields =
+        distinct_names(r, *f, "output.fields", Particles<3>().optional_columns(), "field");
+  return {{"every", s->output_every},
+          {"formats", s->formats},
+          {"checkpoint_every", s->checkpoint_every},
+          {"fields", s->output_fields}};
 }
 
 json parse_render(const Reader& r, const json& doc, Scene* s) {
@@ -169,9 +183,10 @@ json parse_render(const Reader& r, const json& doc, Scene* s) {
   RenderSpec& rs = s->render;
   const RenderSpec def;
   const auto& colors = RenderSpec::kColors;
-  static_assert(std::size(RenderSpec::kColors) == 4);
-  rs.color = colors[r.choice(*v, "render", "color", {colors[0], colors[1], colors[2], colors[3]},
-                             0)];
+  static_assert(std::size(RenderSpec::kColors) == 6);
+  rs.color =
+      colors[r.choice(*v, "render", "color",
+                      {colors[0], colors[1], colors[2], colors[3], colors[4], colors[5]}, 0)];
   auto bounded = [&](const char* key, long long def, long long lo, long long hi) {
     const long long x = r.integer(*v, "render", key, def);
     r.check(x >= lo && x <= hi, key_path("render", key),

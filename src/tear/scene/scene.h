@@ -92,7 +92,8 @@ struct ObjectSpec {
 // their command-line options override these. Camera vectors are 3D in 2D scenes too.
 struct RenderSpec {
   // The colour maps and the bounds on the picture that the scene and the command line share.
-  static constexpr const char* kColors[] = {"damage", "material", "fibers", "velocity"};
+  static constexpr const char* kColors[] = {"damage",   "material",      "fibers",
+                                            "velocity", "driving_force", "damage_laplacian"};
   static constexpr int kMinSize = 16, kMaxSize = 16384, kMaxSamples = 1024;
 
   std::string color = "damage";  // one of kColors
@@ -132,6 +133,9 @@ struct Scene {
   int output_every = 1;
   std::vector<std::string> formats{"ply"};
   int checkpoint_every = 10;
+  // Optional frame columns to write (Particles::optional_columns()): driving_force,
+  // damage_laplacian.
+  std::vector<std::string> output_fields;
   RenderSpec render;
 
   nlohmann::json resolved;  // the full scene with every default filled in
