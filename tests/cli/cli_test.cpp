@@ -328,3 +328,38 @@ TEST_F(Cli, CrackFieldsResumeBitIdentically) {
 
 }  // namespace
 }  // namespace tear
+
+namespace tear {
+
+// Every shipped scene, examples/ and examples/paper/, passes `tear check`; a paper demo's
+// description is printed under its name.
+TEST_F(Cli, EveryExampleChecks) {
+  namespace fs = std::filesystem;
+  int checked = 0;
+  for (const auto &e :
+       fs::recursive_directory_iterator(fs::path(TEAR_SOURCE_DIR) / "examples")) {
+    if (e.path().extension() != ".json") continue;
+    SCOPED_TRACE(e.path().string());
+    EXPECT_EQ(tear("check " + e.path().string()), 0) << err_;
+    EXPECT_NE(out_.find("\nparticles  "), std::string::npos) << out_;
+    if (e.path().parent_path().filename() == "paper")
+      EXPECT_NE(out_.find("\n           AnisoMPM paper Fig."), std::string::npos) << out_;
+    ++checked;
+  }
+  EXPECT_GE(checked, 30);
+}
+
+// --resolution K divides dx and max_dt by K, for check and run alike, and is refused when not
+// positive.
+TEST_F(Cli, ResolutionRefinesTheGrid) {
+  const std::string s = write_scene(scene());
+  ASSERT_EQ(tear("check " + s + " --resolution 2"), 0) << err_;
+  EXPECT_NE(out_.find("dx 0.015625,"), std::string::npos) << out_;
+  ASSERT_EQ(tear("run " + s + " -o " + path("r") + " -q --frames 1 --resolution 2"), 0) << err_;
+  const json resolved = json::parse(read_file(path("r/scene.json")));
+  EXPECT_EQ(resolved["grid"]["dx"], 0.015625);
+  EXPECT_EQ(tear("run " + s + " -o " + path("never") + " --resolution 0"), 2);  // usage error
+  EXPECT_FALSE(std::filesystem::exists(path("never")));
+}
+
+}  // namespace tear

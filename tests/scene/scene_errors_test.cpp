@@ -75,7 +75,7 @@ std::vector<BrokenScene> broken_scenes() {
       raw_file("RootIsArray", "[1, 2]", "(root): must be an object, got an array"),
       // --- unknown keys (typos never pass silently)
       patched("TypoTopLevel", R"({"materails": {}})",
-              "materails: unknown key, did you mean \"materials\"? (expected one of: name, dim,"),
+              "materails: unknown key, did you mean \"materials\"? (expected one of: name, description, dim,"),
       patched("TypoGravity", R"({"gravty": [0, -9.8]})",
               "gravty: unknown key, did you mean \"gravity\"?"),
       patched("TypoGridDx", R"({"grid": {"dxx": 0.1}})",
@@ -356,8 +356,8 @@ std::vector<BrokenScene> broken_scenes() {
       patched("DuplicateFormat", R"({"output": {"formats": ["ply", "ply"]}})",
               "output.formats[1]: duplicate format \"ply\""),
       patched("UnknownField", R"({"output": {"fields": ["driving_force", "stress"]}})",
-              "output.fields[1]: unknown field \"stress\" (expected one of: driving_force, "
-              "damage_laplacian)"),
+              "output.fields[1]: unknown field \"stress\" (expected one of: plastic_strain, "
+              "driving_force, damage_laplacian)"),
       patched("DuplicateField",
               R"({"output": {"fields": ["damage_laplacian", "damage_laplacian"]}})",
               "output.fields[1]: duplicate field \"damage_laplacian\""),

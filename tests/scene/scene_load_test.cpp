@@ -288,6 +288,57 @@ TEST(SceneOverrides, SetValuesAndArrayElements) {
   EXPECT_EQ(s.resolved["flip_relaxation_time"], 0.01);
 }
 
+// tear run --resolution K: dx and the cap on dt divided by K, l0 following dx unless the scene
+// sets it, every length in scene units unchanged; K = 1 changes nothing.
+TEST(SceneLoad, ResolutionRefinesTheGridAndTheTimeStepCap) {
+  nlohmann::json doc = test::minimal_scene_2d();
+  doc["materials"]["jelly"]["model"] = "qr_aniso";
+  doc["materials"]["jelly"]["damage"] = {{"sigma_c", 10}, {"eta", 0.1}};
+  const std::string file = test::write_temp("resolution.json", doc.dump());
+  const Scene one = load_scene(file), same = load_scene(file, {}, 1);
+  EXPECT_EQ(same.resolved, one.resolved);
+  const Scene two = load_scene(file, {"time.max_dt=4e-4"}, 2.5);
+  EXPECT_DOUBLE_EQ(two.dx, one.dx / 2.5);
+  EXPECT_DOUBLE_EQ(two.max_dt, 4e-4 / 2.5);  // after the overrides
+  EXPECT_DOUBLE_EQ(two.damage.l0, one.damage.l0 / 2.5);
+  EXPECT_DOUBLE_EQ(two.objects[0].shape.max.x(), one.objects[0].shape.max.x());
+  EXPECT_DOUBLE_EQ(load_scene(file, {}, 2).max_dt, one.max_dt / 2);  // the default cap too
+  // An l0 the scene sets is a length in scene units: kept.
+  EXPECT_DOUBLE_EQ(load_scene(file, {"damage.l0=0.03"}, 3).damage.l0, 0.03);
+  // Coarser.
+  EXPECT_DOUBLE_EQ(load_scene(file, {}, 0.5).dx, one.dx * 2);
+  try {
+    load_scene(file, {}, -1);
+    ADD_FAILURE() << "a negative resolution was accepted";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("(resolution): must be a positive number"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+// `description`: a string, or lines as an array of strings; kept in the resolved scene.
+TEST(SceneLoad, DescriptionIsAStringOrLines) {
+  nlohmann::json doc = test::minimal_scene_2d();
+  EXPECT_EQ(parse_scene(doc, "d.json").description, "");
+  EXPECT_FALSE(parse_scene(doc, "d.json").resolved.contains("description"));
+  doc["description"] = "one line";
+  EXPECT_EQ(parse_scene(doc, "d.json").description, "one line");
+  doc["description"] = {"first", "second"};
+  const Scene s = parse_scene(doc, "d.json");
+  EXPECT_EQ(s.description, "first\nsecond");
+  EXPECT_EQ(parse_scene(s.resolved, "r.json").resolved, s.resolved);
+  doc["description"] = {"first", 2};
+  try {
+    parse_scene(doc, "d.json");
+    ADD_FAILURE() << "a number in the description was accepted";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("d.json: description[1]: must be a string"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 std::string override_error(const std::vector<std::string>& ov) {
   std::string file = test::write_temp("over_bad.json", test::minimal_scene_2d().dump());
   try {
@@ -337,7 +388,9 @@ TEST(SceneOverrides, BadOverridesFailClearly) {
 TEST(SceneLoad, EveryExampleLoadsAndRoundTrips) {
   namespace fs = std::filesystem;
   std::vector<fs::path> files;
-  for (const auto& e : fs::directory_iterator(fs::path(TEAR_SOURCE_DIR) / "examples"))
+  // examples/ and its folders (examples/paper/).
+  for (const auto& e :
+       fs::recursive_directory_iterator(fs::path(TEAR_SOURCE_DIR) / "examples"))
     if (e.path().extension() == ".json") files.push_back(e.path());
   std::sort(files.begin(), files.end());
   ASSERT_GE(files.size(), 1u);

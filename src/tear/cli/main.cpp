@@ -120,6 +120,11 @@ int main(int argc, char** argv) {
                       "Override a scene value: dotted.path=VALUE (VALUE is JSON or a string)")
       ->take_all()
       ->allow_extra_args(false);
+  const char* resolution_help =
+      "Refine the grid K times: grid.dx and time.max_dt divided by K (l0 follows dx unless "
+      "the scene sets it); K < 1 coarsens";
+  run_cmd->add_option("--resolution", run.resolution, resolution_help)
+      ->check(CLI::PositiveNumber);
   run_cmd->add_flag("-q,--quiet", run.quiet, "No progress line");
   run_cmd->add_flag("--resume", run.resume, "Continue the run in --out from its checkpoint");
   CLI::Option* render_flag = run_cmd->add_flag(
@@ -137,6 +142,9 @@ int main(int argc, char** argv) {
   check_cmd->add_option("scene", check_path, "Scene file (JSON)")->required();
   check_cmd->add_option("--set", check_overrides, "Override a scene value: dotted.path=VALUE")
       ->allow_extra_args(false);
+  double check_resolution = 1;
+  check_cmd->add_option("--resolution", check_resolution, resolution_help)
+      ->check(CLI::PositiveNumber);
 
   CLI::App* info_cmd = app.add_subcommand("info", "Version, build options, libraries, threads");
 
@@ -243,7 +251,8 @@ int main(int argc, char** argv) {
   if (*convert_cmd) return tear::convert_run(convert);
   if (*mesh_cmd) return tear::mesh_frames(mesh);
   if (*cracks_cmd) return tear::crack_report(cracks);
-  if (*check_cmd) return tear::check_scene(check_path, check_overrides, std::cout);
+  if (*check_cmd)
+    return tear::check_scene(check_path, check_overrides, check_resolution, std::cout);
   if (*info_cmd) {
     tear::print_info(std::cout);
     return 0;

@@ -133,9 +133,10 @@ class Progress {
   Clock::time_point start_;
 };
 
-Scene load(const std::string& path, std::vector<std::string> overrides, int frames) {
+Scene load(const std::string& path, std::vector<std::string> overrides, int frames,
+           double resolution) {
   if (frames >= 0) overrides.push_back("time.frames=" + std::to_string(frames));
-  return load_scene(path, overrides);
+  return load_scene(path, overrides, resolution);
 }
 
 // The parts of a resolved scene that a resumed run must keep (time.frames may grow; the render
@@ -175,7 +176,7 @@ int run_scene(const RunOptions& o) {
     const auto limit = limit_threads(o.threads);
     const Clock::time_point start = Clock::now();
     // Everything that can be wrong with the input is found before anything is written.
-    const Scene scene = load(o.scene_path, o.overrides, o.frames);
+    const Scene scene = load(o.scene_path, o.overrides, o.frames, o.resolution);
     std::unique_ptr<Simulation> sim = make_simulation(scene);
     std::unique_ptr<RunRenderer> renderer;
     if (o.render)
@@ -294,11 +295,15 @@ int run_scene(const RunOptions& o) {
 }
 
 int check_scene(const std::string& scene_path, const std::vector<std::string>& overrides,
-                std::ostream& out) {
+                double resolution, std::ostream& out) {
   try {
-    const Scene s = load_scene(scene_path, overrides);
+    const Scene s = load_scene(scene_path, overrides, resolution);
     std::unique_ptr<Simulation> sim = make_simulation(s);
     out << "scene      " << scene_path << " (\"" << s.name << "\", " << s.dim << "D)\n";
+    if (!s.description.empty()) {
+      std::istringstream lines(s.description);
+      for (std::string line; std::getline(lines, line);) out << "           " << line << "\n";
+    }
     out << "grid       dx " << s.dx << ", domain [" << s.domain_min.head(s.dim).transpose()
         << "] .. [" << s.domain_max.head(s.dim).transpose() << "], cells";
     for (int d = 0; d < s.dim; ++d)

@@ -17,6 +17,7 @@ struct RunOptions {
   int threads = 0;                     // 0: all hardware threads
   int frames = -1;                     // >= 0 overrides time.frames
   std::vector<std::string> overrides;  // --set KEY=VALUE
+  double resolution = 1;               // --resolution K: grid.dx and time.max_dt divided by K
   bool quiet = false;                  // no progress line
   bool resume = false;                 // continue DIR's run from its checkpoint
   bool render = false;                 // --render: DIR/render/NNNNN.png per frame, preview.mp4
@@ -29,7 +30,7 @@ int run_scene(const RunOptions& options);
 
 // `tear check`: validate the scene and print what a run would do. Returns the exit code.
 int check_scene(const std::string& scene_path, const std::vector<std::string>& overrides,
-                std::ostream& out);
+                double resolution, std::ostream& out);
 
 // `tear info`: version, build options, libraries and threads.
 void print_info(std::ostream& out);

@@ -28,6 +28,9 @@ SceneError::SceneError(const std::string& file, const std::string& path,
 
 namespace {
 
+constexpr double kDefaultMaxDt = 1e-3;
+
+
 constexpr double kMaxCellsPerAxis = 1 << 24;
 
 json parse_grid(const Reader& r, const json& doc, Scene* s) {
@@ -69,7 +72,7 @@ json parse_time(const Reader& r, const json& doc, Scene* s) {
   s->frames = int(frames);
   s->cfl = r.number(*t, "time", "cfl", 0.4);
   r.check(s->cfl > 0 && s->cfl <= 1, "time.cfl", "must be in (0, 1], got " + num_str(s->cfl));
-  s->max_dt = r.number(*t, "time", "max_dt", 1e-3);
+  s->max_dt = r.number(*t, "time", "max_dt", kDefaultMaxDt);
   r.positive(s->max_dt, "time.max_dt");
   return {{"frame_dt", s->frame_dt}, {"frames", s->frames}, {"cfl", s->cfl},
           {"max_dt", s->max_dt}};
@@ -144,6 +147,23 @@ std::vector<std::string> distinct_names(const Reader& r, const json& v, const st
     names.push_back(name);
   }
   return names;
+}
+
+// Free text about the scene (what it shows, where it comes from): a string, or an array of
+// strings, one per line, so that a long header reads well in the file. Kept as written.
+std::string parse_description(const Reader& r, const json& doc) {
+  const json* d = r.find(doc, "description");
+  if (!d || d->is_null()) return "";
+  if (d->is_string()) return d->get<std::string>();
+  if (!d->is_array()) r.fail("description", "must be a string or an array of strings, got " +
+                                                type_desc(*d));
+  std::string text;
+  for (size_t i = 0; i < d->size(); ++i) {
+    if (!(*d)[i].is_string())
+      r.fail(index_path("description", i), "must be a string, got " + type_desc((*d)[i]));
+    text += (i ? "\n" : "") + (*d)[i].get<std::string>();
+  }
+  return text;
 }
 
 json parse_output(const Reader& r, const json& doc, Scene* s) {
@@ -274,9 +294,40 @@ void apply_override(const std::string& file, json* doc, const std::string& ov) {
   *node = value;
 }
 
+// `tear run --resolution K`: grid.dx and time.max_dt divided by K (so l0 = 0.5 dx by default
+// follows, and the cap on dt keeps its ratio to dx); everything in scene units (shapes, an
+// explicit damage.l0, frame times) stays. Objects read from particle files cannot be refined.
+void scale_resolution(const std::string& path, json* doc, double k) {
+  if (k == 1) return;
+  if (!(k > 0) || !std::isfinite(k))
+    throw SceneError(path, "(resolution)", "must be a positive number, got " + std::to_string(k));
+  if (!doc->is_object()) return;  // parse_scene names the problem
+  json& grid = (*doc)["grid"];
+  if (grid.is_object() && grid.contains("dx") && grid["dx"].is_number())
+    grid["dx"] = grid["dx"].get<double>() / k;
+  json& time = (*doc)["time"];
+  if (time.is_object()) {
+    const double max_dt =
+        time.contains("max_dt") && time["max_dt"].is_number() ? time["max_dt"].get<double>()
+                                                              : kDefaultMaxDt;
+    time["max_dt"] = max_dt / k;
+  }
+  if (doc->contains("objects") && (*doc)["objects"].is_array()) {
+    const json& objects = (*doc)["objects"];
+    for (size_t i = 0; i < objects.size(); ++i) {
+      const json& o = objects[i];
+      if (o.is_object() && o.contains("shape") && o["shape"].is_object() &&
+          o["shape"].value("type", "") == "particles")
+        throw SceneError(path, index_path("objects", i) + ".shape",
+                         "a particle file keeps its points: --resolution cannot refine it");
+    }
+  }
+}
+
 }  // namespace
 
-Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides,
+                 double resolution) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
     throw SceneError(path, "(file)", "is a directory, not a scene file");
@@ -299,6 +350,7 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     throw SceneError(path, "(file)", "invalid JSON: " + msg);
   }
   for (const std::string& ov : overrides) apply_override(path, &doc, ov);
+  scale_resolution(path, &doc, resolution);
   return parse_scene(doc, path);
 }
 
@@ -308,7 +360,7 @@ Scene parse_scene(const json& doc, const std::string& file) {
   s.file = file;
   if (!doc.is_object()) r.fail("(root)", "must be an object, got " + type_desc(doc));
   r.object(doc, "",
-           {"name", "dim", "seed", "grid", "time", "gravity", "transfer", "flip_ratio",
+           {"name", "description", "dim", "seed", "grid", "time", "gravity", "transfer", "flip_ratio",
             "flip_relaxation_time", "integrator", "damage", "materials", "objects", "boundaries",
             "output", "render"});
   long long dim = r.integer(doc, "", "dim");
@@ -317,12 +369,14 @@ Scene parse_scene(const json& doc, const std::string& file) {
   std::string stem = file.empty() ? "scene" : std::filesystem::path(file).stem().string();
   s.name = r.string(doc, "", "name", stem);
   r.check(!s.name.empty(), "name", "must not be empty");
+  s.description = parse_description(r, doc);
   long long seed = r.integer(doc, "", "seed", 1);
   r.non_negative(double(seed), "seed");
   s.seed = uint64_t(seed);
 
   json out;
   out["name"] = s.name;
+  if (!s.description.empty()) out["description"] = doc["description"];
   out["dim"] = s.dim;
   out["seed"] = s.seed;
   out["grid"] = parse_grid(r, doc, &s);

@@ -108,6 +108,7 @@ struct RenderSpec {
 struct Scene {
   std::string file;  // path the scene was loaded from ("" when built in code)
   std::string name;
+  std::string description;  // free text, lines joined by "\n"
   int dim = 2;
   uint64_t seed = 1;
   // grid
@@ -144,7 +145,10 @@ struct Scene {
 // Load, validate and resolve a scene. `overrides` are "dotted.path=VALUE" strings from
 // `tear run --set`; VALUE is parsed as JSON when it parses, else taken as a string.
 // Throws SceneError naming the file, the JSON path and the reason.
-Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+// `resolution` K refines the grid: grid.dx and time.max_dt are divided by K after the
+// overrides (tear run --resolution).
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {},
+                 double resolution = 1);
 // Same, from an in-memory JSON document (`file` is used in error messages and to resolve paths).
 Scene parse_scene(const nlohmann::json& doc, const std::string& file);
 
