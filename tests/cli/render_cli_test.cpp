@@ -87,6 +87,28 @@ TEST_F(RenderCli, SceneRenderSectionIsTheDefaultAndOptionsOverrideIt) {
   EXPECT_NE(err_.find("camera 0.5,0.5,3  target 0.5,0.5,0  fov 20"), std::string::npos) << err_;
 }
 
+// tear render frames the whole run: a body that flies off to the right is kept in the picture,
+// the camera aims right of where it starts. Any frame range gets the same camera.
+TEST_F(RenderCli, FittedCameraFramesEveryFrameOfTheRun) {
+  json flying = scene();
+  flying["gravity"] = {0, 0};
+  flying["boundaries"] = json::array();
+  flying["objects"][0]["velocity"] = {3, 0};
+  flying["objects"][0]["angular_velocity"] = 0;
+  flying["objects"][0]["shape"]["center"] = {0.3, 0.5};
+  const std::string run = run_folder(flying);  // 4 frames of 0.02 s: the body moves 0.24
+  const auto target_x = [&](const std::string& frames) {
+    EXPECT_EQ(tear("render " + run + kSmall + " --no-video --frames " + frames), 0) << err_;
+    const size_t at = err_.find("target ");
+    EXPECT_NE(at, std::string::npos) << err_;
+    return at == std::string::npos ? 0.0 : std::stod(err_.substr(at + 7));
+  };
+  const double all = target_x("0:4");
+  EXPECT_NEAR(all, 0.3 + 0.12, 0.03);  // between the first and the last frame's centres
+  EXPECT_EQ(target_x("0"), all);
+  EXPECT_EQ(target_x("3:4"), all);
+}
+
 TEST_F(RenderCli, RunRenderRendersEveryWrittenFrameAndResumes) {
   json s = scene();
   s["output"]["every"] = 2;  // frames 0, 2, 4

@@ -141,8 +141,8 @@ std::string encode_video(const std::string& dir, const std::vector<int>& frames,
 }
 
 // Where the colliders go during the run: their boxes at 33 times from start to end (or the
-// run's end), clipped to the grid domain. A picture fitted before the run knows only frame 0;
-// torn pieces go where the colliders pull them.
+// run's end), clipped to the grid domain. A picture fitted before the run (tear run --render)
+// knows only frame 0 besides; torn pieces go where the colliders pull them.
 std::vector<Eigen::Vector3d> collider_reach(const Scene& s) {
   std::vector<Eigen::Vector3d> out;
   const double t_end = s.frames * s.frame_dt;
@@ -163,6 +163,35 @@ std::vector<Eigen::Vector3d> collider_reach(const Scene& s) {
         out.push_back(w);
       }
     }
+  }
+  return out;
+}
+
+// Where the body goes during a finished run: in up to 16 of its frames, spread from the first
+// to the last, the box of the middle 99 % of the particles along each axis (stray fragments do
+// not shrink the picture), clipped to the grid domain. Every frame of the run is looked at, not
+// only those being drawn, so that drawing a range gives the same pictures as drawing them all.
+std::vector<Eigen::Vector3d> frames_reach(const std::string& dir, const Scene& s) {
+  const std::vector<FrameFile> all = list_frames(dir);
+  std::vector<Eigen::Vector3d> out;
+  const size_t n = all.size(), picks = std::min<size_t>(n, 16);
+  for (size_t k = 0; k < picks; ++k) {
+    const size_t i = picks == 1 ? 0 : k * (n - 1) / (picks - 1);
+    const std::vector<Eigen::Vector3d> x = positions(read_frame(all[i].path));
+    if (x.empty()) continue;
+    Vec3d lo = Vec3d::Zero(), hi = Vec3d::Zero();
+    std::vector<double> c(x.size());
+    for (int d = 0; d < s.dim; ++d) {
+      for (size_t j = 0; j < x.size(); ++j) c[j] = x[j][d];
+      const size_t a = c.size() / 200, b = c.size() - 1 - a;
+      std::nth_element(c.begin(), c.begin() + a, c.end());
+      lo[d] = std::clamp(c[a], s.domain_min[d], s.domain_max[d]);
+      std::nth_element(c.begin(), c.begin() + b, c.end());
+      hi[d] = std::clamp(c[b], s.domain_min[d], s.domain_max[d]);
+    }
+    for (int corner = 0; corner < 8; ++corner)
+      out.emplace_back((corner & 1) ? hi.x() : lo.x(), (corner & 2) ? hi.y() : lo.y(),
+                       (corner & 4) ? hi.z() : lo.z());
   }
   return out;
 }
@@ -284,6 +313,10 @@ int render_frames(const RenderOptions& o) {
       return fail(scene_path + ": missing (is " + o.dir + " the output folder of tear run?)");
     const Scene scene = load_scene(scene_path);
     Sequence seq(o.dir, scene, o.overrides);
+    if (!seq.rest_space) {  // the run is over: frame the whole of it
+      const std::vector<Eigen::Vector3d> frames = frames_reach(o.dir, scene);
+      seq.reach.insert(seq.reach.end(), frames.begin(), frames.end());
+    }
     if (seq.auto_range && has_range(seq.settings.color))
       for (const FrameFile& f : files) seq.see_range(read_frame(f.path));  // the run's top
     if (seq.rest_space) {
@@ -299,7 +332,10 @@ int render_frames(const RenderOptions& o) {
       const PointTable table = read_frame(files[i].path);
       if (i == 0) {
         seq.check(table, files[i].path);
-        seq.fit(files[i].frame, table);
+        // Fitted to the run's first frame (and the reach), whichever frames are drawn, so that
+        // drawing a range gives the pictures of drawing them all.
+        const FrameFile first = list_frames(o.dir).front();
+        seq.fit(first.frame, first.frame == files[i].frame ? table : read_frame(first.path));
         if (!o.quiet) {
           const Camera& c = seq.stage->camera;
           std::fprintf(stderr, "camera %g,%g,%g  target %g,%g,%g  fov %g\n", c.position.x(),
