@@ -26,13 +26,16 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-// What the renderer needs from a scene: which way is up, floors, particle sizes, names.
-RenderLook look_of(const Scene& s) {
+// What the renderer needs from a scene: which way is up (against gravity; without gravity the
+// camera's up when one is given, else +y), floors, particle sizes, names.
+RenderLook look_of(const Scene& s, const RenderSettings& settings) {
   RenderLook look;
   look.dim = s.dim;
   if (s.gravity.norm() > 0) {
     look.up = -s.gravity.normalized();
     look.falls = true;
+  } else if (settings.camera_up) {
+    look.up = settings.camera_up->normalized();
   }
   // Floors: half spaces whose solid side is below (outward normal along up), and the domain's
   // lower wall when walls hold the particles in.
@@ -204,8 +207,8 @@ const char* optional_column(ColorBy c) {
 // A frame sequence drawn with one camera.
 struct Sequence {
   std::string dir;
+  RenderSettings settings;  // before look, which takes the camera's up from it
   RenderLook look;
-  RenderSettings settings;
   Renderer renderer;
   std::optional<Stage> stage;
   double frame_dt = 1.0 / 24;
@@ -217,7 +220,7 @@ struct Sequence {
   std::optional<PointTable> rest;  // frame 0's id, x, y, z (rest space)
 
   Sequence(const std::string& d, const Scene& scene, const RenderOverrides& o)
-      : dir(d), look(look_of(scene)), settings(settings_of(scene.render, o)) {
+      : dir(d), settings(settings_of(scene.render, o)), look(look_of(scene, settings)) {
     frame_dt = scene.frame_dt;
     auto_range = !o.color_max;
     rest_space = o.rest_space;
