@@ -1,5 +1,6 @@
 // docs/gallery.md keeps up with examples/: every example has a still (a PNG that decodes, of
-// the size scripts/make_gallery.sh renders) and a section on the page.
+// the size scripts/make_gallery.sh renders) and a section on the page; every paper demo
+// (examples/paper/) has two, in world and in rest space.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,29 +16,47 @@ namespace {
 
 namespace fs = std::filesystem;
 
+void expect_still(const fs::path& png, const std::string& name) {
+  ASSERT_TRUE(fs::exists(png)) << "run: bash scripts/make_gallery.sh " << name;
+  const Image image = decode_png(read_file(png.string()));
+  EXPECT_EQ(image.width, 480);
+  EXPECT_EQ(image.height, 270);
+  EXPECT_LT(fs::file_size(png), 150u * 1024) << "keep the stills small";
+}
+
 TEST(Gallery, EveryExampleHasAStillAndASection) {
   const fs::path root(TEAR_SOURCE_DIR);
-  std::vector<std::string> names;
-  for (const auto& e : fs::directory_iterator(root / "examples"))
-    if (e.path().extension() == ".json") names.push_back(e.path().stem().string());
+  // NAME for examples/NAME.json, paper/NAME for examples/paper/NAME.json.
+  std::vector<std::string> names, stills;
+  for (const char* folder : {"", "paper"})
+    for (const auto& e : fs::directory_iterator(root / "examples" / folder))
+      if (e.path().extension() == ".json") {
+        const std::string name = (fs::path(folder) / e.path().stem()).generic_string();
+        names.push_back(name);
+        stills.push_back(name);
+        if (*folder) stills.push_back(name + "_rest");
+      }
   std::sort(names.begin(), names.end());
+  std::sort(stills.begin(), stills.end());
   ASSERT_FALSE(names.empty());
   const std::string page = read_file((root / "docs" / "gallery.md").string());
   for (const std::string& n : names) {
     SCOPED_TRACE(n);
-    EXPECT_NE(page.find("## " + n + "\n"), std::string::npos);
+    EXPECT_NE(page.find("## " + fs::path(n).filename().string() + "\n"), std::string::npos);
+  }
+  for (const std::string& n : stills) {
+    SCOPED_TRACE(n);
     EXPECT_NE(page.find("(gallery/" + n + ".png)"), std::string::npos);
-    const fs::path png = root / "docs" / "gallery" / (n + ".png");
-    ASSERT_TRUE(fs::exists(png)) << "run: bash scripts/make_gallery.sh " << n;
-    const Image image = decode_png(read_file(png.string()));
-    EXPECT_EQ(image.width, 480);
-    EXPECT_EQ(image.height, 270);
-    EXPECT_LT(fs::file_size(png), 150u * 1024) << "keep the stills small";
+    expect_still(root / "docs" / "gallery" / (n + ".png"), n);
   }
   // No still without its example.
-  for (const auto& e : fs::directory_iterator(root / "docs" / "gallery"))
-    EXPECT_TRUE(std::binary_search(names.begin(), names.end(), e.path().stem().string()))
+  for (const auto& e : fs::recursive_directory_iterator(root / "docs" / "gallery")) {
+    if (e.is_directory()) continue;
+    const std::string still =
+        fs::relative(e.path(), root / "docs" / "gallery").replace_extension().generic_string();
+    EXPECT_TRUE(std::binary_search(stills.begin(), stills.end(), still))
         << e.path() << " has no example";
+  }
 }
 
 }  // namespace
