@@ -1,4 +1,6 @@
 // Properties every registered model must have, and the shared helpers of helpers.h.
+#include <Eigen/Eigenvalues>
+
 #include "material_test_util.h"
 #include "tear/materials/helpers.h"
 #include "tear/materials/registry.h"
@@ -131,11 +133,11 @@ TEST(Materials, StressDifferentialAtRestIsTheLinearElasticityTensor) {
   }
 }
 
-// The numerical fallback (numeric_stress_differential) reproduces the analytic differentials
-// of neo_hookean and fixed_corotated: to ~1e-10 relative near identity (|F - I| ~ 0.3), and
-// to the h^2 truncation far from it (large stretches, J near 0, inversion).
+// Entrywise central differences of P (numeric_stress_differential) reproduce every model's
+// analytic differential: to ~1e-9 relative near identity (|F - I| ~ 0.3), and to the h^2
+// truncation far from it (large stretches, J near 0, inversion). With damage (g = 0.3) too.
 template <int Dim>
-void expect_numeric_differential_matches_analytic(Model model) {
+void expect_numeric_differential_matches_analytic(Model model, Real g) {
   std::mt19937_64 rng(37 + Dim);
   const MaterialParams m = test_material(model);
   const std::vector<Mat<Dim>> Fs = test_deformations<Dim>(rng);
@@ -143,8 +145,8 @@ void expect_numeric_differential_matches_analytic(Model model) {
     const Mat<Dim>& F = Fs[k];
     const bool near_identity = k < 12 && k % 2 == 0;
     const Mat<Dim> D = random_rotation<Dim>(rng), dF = random_direction<Dim>(rng);
-    const auto stress = [&](const Mat<Dim>& G) { return first_piola<Dim>(m, G, D); };
-    const Mat<Dim> dP = stress_differential<Dim>(m, F, D, dF);
+    const auto stress = [&](const Mat<Dim>& G) { return first_piola<Dim>(m, G, D, g); };
+    const Mat<Dim> dP = stress_differential<Dim>(m, F, D, dF, g);
     const Mat<Dim> numeric = numeric_stress_differential<Dim>(stress, F, dF);
     EXPECT_LT((numeric - dP).norm(), (near_identity ? 1e-9 : 1e-6) * (1 + dP.norm()))
         << model_name(model) << " Dim " << Dim << "\nF =\n"
@@ -152,11 +154,68 @@ void expect_numeric_differential_matches_analytic(Model model) {
   }
 }
 
-TEST(NumericStressDifferential, MatchesTheAnalyticDifferentials) {
+TEST(Materials, EntrywiseStressDifferencesMatchTheAnalyticDifferential) {
+  for (Model model : registered_models())
+    for (Real g : {1.0, 0.3}) {
+      expect_numeric_differential_matches_analytic<2>(model, g);
+      expect_numeric_differential_matches_analytic<3>(model, g);
+    }
+}
+
+// stress_derivative is the Hessian of Psi: its columns are dP along the unit matrices, and it is
+// symmetric. Its projection is symmetric positive semi-definite, equals the Hessian where that
+// is already PSD, and only adds: projected - Hessian is PSD (it removes the negative part).
+template <int Dim>
+void expect_projected_derivative_is_psd(Model model, Real g) {
+  using A = StressDerivative<Dim>;
+  std::mt19937_64 rng(53 + Dim);
+  const MaterialParams m = test_material(model);
+  int indefinite = 0;
+  for (const Mat<Dim>& F : test_deformations<Dim>(rng)) {
+    const Mat<Dim> D = random_rotation<Dim>(rng), dF = random_direction<Dim>(rng);
+    const A H = stress_derivative<Dim>(m, F, D, g);
+    const A P = projected_stress_derivative<Dim>(m, F, D, g);
+    const A sym = (H + H.transpose()) / 2;
+    const Real scale = 1 + H.norm();
+    EXPECT_LT((H * dF.reshaped() - stress_differential<Dim>(m, F, D, dF, g).reshaped()).norm(),
+              1e-12 * scale);
+    EXPECT_LT((H - H.transpose()).norm(), 1e-9 * scale) << model_name(model) << "\nF =\n" << F;
+    EXPECT_LT((P - P.transpose()).norm(), 1e-12 * scale);
+    Eigen::SelfAdjointEigenSolver<A> eh(sym), ep(P), added(P - sym);
+    EXPECT_GE(ep.eigenvalues().minCoeff(), -1e-10 * scale) << model_name(model);
+    EXPECT_GE(added.eigenvalues().minCoeff(), -1e-10 * scale) << model_name(model);
+    if (eh.eigenvalues().minCoeff() >= 0) {
+      EXPECT_LT((P - H).norm(), 1e-9 * scale);
+    } else {
+      ++indefinite;
+      // The projection keeps the positive part: same action on the top eigenvector.
+      const int top = Dim * Dim - 1;
+      const auto v = eh.eigenvectors().col(top);
+      EXPECT_NEAR(v.dot(P * v), eh.eigenvalues()[top], 1e-9 * scale);
+    }
+  }
+  // The test deformations include compressed and inverted ones, where no model is convex.
+  EXPECT_GT(indefinite, 0) << model_name(model) << " Dim " << Dim;
+}
+
+TEST(Materials, ProjectedStressDerivativeIsPositiveSemiDefinite) {
+  for (Model model : registered_models())
+    for (Real g : {1.0, 0.3}) {
+      expect_projected_derivative_is_psd<2>(model, g);
+      expect_projected_derivative_is_psd<3>(model, g);
+    }
+}
+
+// At rest without fiber stiffness every model's Hessian is the (positive definite) elasticity
+// tensor: the projection changes nothing.
+TEST(Materials, ProjectionLeavesTheRestTensorAlone) {
+  std::mt19937_64 rng(61);
   for (Model model : registered_models()) {
-    if (!model_traits(model).analytic_differential) continue;
-    expect_numeric_differential_matches_analytic<2>(model);
-    expect_numeric_differential_matches_analytic<3>(model);
+    const MaterialParams m = make_material(model, 1000, 0.3, 1);
+    const Mat<3> D = random_rotation<3>(rng);
+    const StressDerivative<3> H = stress_derivative<3>(m, Mat<3>::Identity(), D);
+    const StressDerivative<3> P = projected_stress_derivative<3>(m, Mat<3>::Identity(), D);
+    EXPECT_LT((P - H).norm(), 1e-9 * H.norm()) << model_name(model);
   }
 }
 

@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -64,6 +66,25 @@ std::vector<Mat<Dim>> test_deformations(std::mt19937_64& rng) {
 }
 
 constexpr int kTestDeformations = 20;
+
+// An independent reference for dP = dP/dF : dF: central differences of `stress` (F -> P) along
+// each entry of F with step h = eps^(1/3) max(1, max |F_ij|), contracted with dF. Truncation
+// ~h^2 (third derivative of P) and round-off ~eps P / h: ~1e-10 relative for moderate strains.
+template <int Dim, class Stress>
+Mat<Dim> numeric_stress_differential(const Stress& stress, const Mat<Dim>& F, const Mat<Dim>& dF) {
+  const Real h =
+      std::cbrt(std::numeric_limits<Real>::epsilon()) * std::max(Real(1), F.cwiseAbs().maxCoeff());
+  Mat<Dim> dP = Mat<Dim>::Zero();
+  for (int j = 0; j < Dim; ++j)
+    for (int i = 0; i < Dim; ++i) {
+      if (dF(i, j) == 0) continue;
+      Mat<Dim> Fp = F, Fm = F;
+      Fp(i, j) += h;
+      Fm(i, j) -= h;
+      dP += dF(i, j) * (stress(Fp) - stress(Fm)) / (Fp(i, j) - Fm(i, j));
+    }
+  return dP;
+}
 
 // The material every derivative test uses: E = 1000, nu = 0.3, fiber scales (4, 2).
 inline MaterialParams test_material(Model model) {

@@ -20,28 +20,144 @@ TEST(QrAniso, DegradedStressIsGradientOfDegradedEnergy) {
   expect_stress_is_energy_gradient<3>(Model::QrAniso, 0.0);
 }
 
-// The numerical fallback (helpers.h) until the analytic QR differential (EQUATIONS.md §2)
-// replaces it: a linear map of dF, and the derivative of P to second order in the FD step.
-TEST(QrAniso, FallbackDifferentialIsLinearInDF) {
+// The analytic differential: a linear map of dF, the derivative of P to second order in the FD
+// step near identity, and at the FD tolerance far from it (large, near-singular, inverted F),
+// undamaged and damaged (both sides of J = 1 occur among the test deformations).
+TEST(QrAniso, DifferentialIsLinearInDF) {
   for (Real g : {1.0, 0.3}) {
     expect_differential_is_linear<2>(Model::QrAniso, g);
     expect_differential_is_linear<3>(Model::QrAniso, g);
   }
 }
 
-TEST(QrAniso, FallbackDifferentialAgreesWithStressDifferencesAtSecondOrder) {
-  for (Real g : {1.0, 0.3}) {
+TEST(QrAniso, DifferentialAgreesWithStressDifferencesAtSecondOrder) {
+  for (Real g : {1.0, 0.3, 0.0}) {
     expect_differential_agrees_at_second_order<2>(Model::QrAniso, g);
     expect_differential_agrees_at_second_order<3>(Model::QrAniso, g);
   }
 }
 
-// Far from identity too (large, near-singular and inverted F), at the FD tolerance.
-TEST(QrAniso, FallbackDifferentialMatchesFiniteDifferencesOfStress) {
-  for (Real g : {1.0, 0.3}) {
+TEST(QrAniso, DifferentialMatchesFiniteDifferencesOfStress) {
+  for (Real g : {1.0, 0.3, 0.0}) {
     expect_differential_matches_stress_differences<2>(Model::QrAniso, g);
     expect_differential_matches_stress_differences<3>(Model::QrAniso, g);
   }
+}
+
+// dP against central differences of the QR-based first_piola at one F (step h along dF).
+template <int Dim>
+void expect_dp_matches_at(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D, Real g,
+                          const Mat<Dim>& dF, double h, double tol, const char* what) {
+  const Mat<Dim> dP = stress_differential<Dim>(m, F, D, dF, g);
+  const Mat<Dim> fd =
+      (first_piola<Dim>(m, F + h * dF, D, g) - first_piola<Dim>(m, F - h * dF, D, g)) / (2 * h);
+  EXPECT_LT((dP - fd).norm(), tol * (1 + dP.norm()))
+      << what << " Dim " << Dim << " g " << g << "\nF =\n" << F << "\ndP =\n" << dP << "\nfd =\n" << fd;
+}
+
+// Where the QR's sign convention flips rows of R (a fiber pointing backwards: (F D) e1 with a
+// negative first entry and nothing below it; in 3D also r22 < 0 before the flip), where a
+// fiber is nearly squashed (r11 = |F a1| = 1e-3), and where the second fiber is (r12, r22 small):
+// the energy is smooth in F there, and dP must follow the QR-based stress.
+template <int Dim>
+void expect_dp_at_qr_sign_flips() {
+  std::mt19937_64 rng(71 + Dim);
+  const MaterialParams m = make_material(Model::QrAniso, 1000, 0.3, 1, 10, 4);
+  for (int k = 0; k < 10; ++k) {
+    const Mat<Dim> D = random_rotation<Dim>(rng), dF = random_direction<Dim>(rng);
+    Mat<Dim> FD = Mat<Dim>::Identity() + random_matrix<Dim>(rng, 0.3);
+    FD.col(0).setZero();
+    FD(0, 0) = -0.9;  // r11 < 0 before the flip: Givens has nothing to rotate
+    if constexpr (Dim == 3) FD(1, 1) = -std::abs(FD(1, 1));
+    for (Real g : {1.0, 0.3}) {
+      expect_dp_matches_at<Dim>(m, FD * D.transpose(), D, g, dF, 1e-6, 1e-6, "sign flip");
+      Mat<Dim> squashed = FD;
+      squashed(0, 0) = 1e-3;  // the fiber a1 at a thousandth of its length
+      expect_dp_matches_at<Dim>(m, squashed * D.transpose(), D, g, dF, 1e-8, 1e-5, "squashed");
+      if constexpr (Dim == 3) {
+        Mat<Dim> second = FD;
+        second(0, 1) = second(1, 1) = 2e-3;  // |F a2| ~ 3e-3
+        expect_dp_matches_at<Dim>(m, second * D.transpose(), D, g, dF, 1e-8, 1e-5, "second");
+      }
+    }
+  }
+}
+
+TEST(QrAniso, DifferentialFollowsTheStressAtQrSignFlipsAndSquashedFibers) {
+  expect_dp_at_qr_sign_flips<2>();
+  expect_dp_at_qr_sign_flips<3>();
+}
+
+// With damage the volumetric term switches at J = 1: just above, dP is the degraded tension
+// derivative; just below, the full compression one. Checked on both sides at J = 1 +- 1e-3 with
+// steps that do not cross, and the two one-sided derivatives differ by the switched part.
+template <int Dim>
+void expect_dp_on_both_sides_of_unit_volume() {
+  std::mt19937_64 rng(83 + Dim);
+  const MaterialParams m = make_material(Model::QrAniso, 1000, 0.3, 1, 6, 2);
+  for (int k = 0; k < 6; ++k) {
+    const Mat<Dim> D = random_rotation<Dim>(rng), dF = random_direction<Dim>(rng);
+    Mat<Dim> F0 = Mat<Dim>::Identity() + random_matrix<Dim>(rng, 0.2);
+    F0 /= std::pow(F0.determinant(), Real(1) / Dim);  // J = 1
+    for (Real g : {0.3, 0.0}) {
+      const Mat<Dim> above = std::pow(1 + 1e-3, 1.0 / Dim) * F0;
+      const Mat<Dim> below = std::pow(1 - 1e-3, 1.0 / Dim) * F0;
+      expect_dp_matches_at<Dim>(m, above, D, g, dF, 1e-7, 1e-6, "J > 1");
+      expect_dp_matches_at<Dim>(m, below, D, g, dF, 1e-7, 1e-6, "J < 1");
+      const Mat<Dim> jump = stress_differential<Dim>(m, above, D, dF, g) -
+                            stress_differential<Dim>(m, below, D, dF, g);
+      const Mat<Dim> cof = cofactor<Dim>(F0);
+      // lambda dJ cof F jumps by (g - 1) lambda dJ cof F (up to the O(1e-3) change of F).
+      const Mat<Dim> expected = (g - 1) * m.lambda * cof.cwiseProduct(dF).sum() * cof;
+      EXPECT_LT((jump - expected).norm(), 1e-2 * (m.lambda + expected.norm())) << "g " << g;
+    }
+  }
+}
+
+TEST(QrAniso, DamagedDifferentialOnBothSidesOfUnitVolume) {
+  expect_dp_on_both_sides_of_unit_volume<2>();
+  expect_dp_on_both_sides_of_unit_volume<3>();
+}
+
+// The supplement's route (§3.3): dP = -Q dQ^T P + Q dA R^-T - P dR^T R^-T with A = Q^T P R^T,
+// dQ and dR from qr_differential, and dA the differential of the upper triangle of dPsi/dR R^T
+// (here by central differences of A(R) along dR, so no further hand derivation enters). It
+// divides by r_ii; where R is well conditioned it must equal the QR-free differential.
+template <int Dim>
+Mat<Dim> supplement_qr_differential(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D,
+                                    const Mat<Dim>& dF) {
+  const Mat<Dim> FD = F * D, dFD = dF * D;
+  Mat<Dim> Q, R, dQ, dR;
+  qr_decompose<Dim>(FD, &Q, &R);
+  qr_differential<Dim>(Q, R, dFD, &dQ, &dR);
+  // A(R) = Q^T P(Q R) R^T depends on R only (rotation invariance): evaluate it with Q = I.
+  const auto A_of = [&](const Mat<Dim>& Rr) {
+    return Mat<Dim>(first_piola<Dim>(m, Mat<Dim>(Rr * D.transpose()), D) * D * Rr.transpose());
+  };
+  const double h = 1e-6;
+  const Mat<Dim> dA = (A_of(R + h * dR) - A_of(R - h * dR)) / (2 * h);
+  const Mat<Dim> PD = first_piola<Dim>(m, F, D) * D;  // the stress of F D
+  const Mat<Dim> Rinv_t = R.inverse().transpose();
+  const Mat<Dim> dPD =
+      -Q * dQ.transpose() * PD + Q * dA * Rinv_t - PD * dR.transpose() * Rinv_t;
+  return dPD * D.transpose();
+}
+
+template <int Dim>
+void expect_supplement_route_agrees() {
+  std::mt19937_64 rng(97 + Dim);
+  const MaterialParams m = make_material(Model::QrAniso, 1000, 0.3, 1, 6, 3);
+  for (int k = 0; k < 10; ++k) {
+    const Mat<Dim> F = Mat<Dim>::Identity() + random_matrix<Dim>(rng, 0.3);
+    const Mat<Dim> D = random_rotation<Dim>(rng), dF = random_direction<Dim>(rng);
+    const Mat<Dim> dP = stress_differential<Dim>(m, F, D, dF);
+    EXPECT_LT((supplement_qr_differential<Dim>(m, F, D, dF) - dP).norm(), 1e-5 * (1 + dP.norm()));
+  }
+}
+
+TEST(QrAniso, DifferentialEqualsTheSupplementsQrRoute) {
+  expect_supplement_route_agrees<2>();
+  expect_supplement_route_agrees<3>();
 }
 
 TEST(QrAniso, ParametersShiftLambdaByMuAndScaleFibersByMu) {

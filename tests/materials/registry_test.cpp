@@ -75,20 +75,5 @@ TEST(Registry, DamageTraitMatchesWhetherDegradationChangesTheStress) {
   }
 }
 
-// kAnalyticDifferential is false exactly for the models whose stress_differential is the
-// numerical fallback of helpers.h (then bit for bit the same numbers).
-TEST(Registry, AnalyticTraitSaysWhetherTheDifferentialIsTheNumericalFallback) {
-  std::mt19937_64 rng(4);
-  const Mat<3> F = Mat<3>::Identity() + random_matrix<3>(rng, 0.3);
-  const Mat<3> D = random_rotation<3>(rng), dF = random_direction<3>(rng);
-  for (const ModelTraits& t : kModelTraits) {
-    const MaterialParams m = test_material(t.model);
-    const auto stress = [&](const Mat<3>& G) { return first_piola<3>(m, G, D); };
-    const bool is_fallback =
-        stress_differential<3>(m, F, D, dF) == numeric_stress_differential<3>(stress, F, dF);
-    EXPECT_EQ(is_fallback, !t.analytic_differential) << t.name;
-  }
-}
-
 }  // namespace
 }  // namespace tear

@@ -105,5 +105,34 @@ TEST(SignedSvd, RotationsAndNegativeLastValueForInversion) {
   EXPECT_GT(inverted, 10);
 }
 
+// qr_differential (supplement §3.4, Jiang et al. 2017 §1) against central differences of
+// qr_decompose along dA: dQ, dR agree; Q^T dQ is skew and dR upper triangular by construction.
+template <int Dim>
+void expect_qr_differential_matches_differences() {
+  std::mt19937_64 rng(17 + Dim);
+  int checked = 0;
+  for (int k = 0; k < 100; ++k) {
+    const Mat<Dim> A = random_matrix<Dim>(rng), dA = random_matrix<Dim>(rng);
+    Mat<Dim> Q, R;
+    qr_decompose<Dim>(A, &Q, &R);
+    if (R(0, 0) < 0.2 || (Dim == 3 && R(1, 1) < 0.2)) continue;  // near the non-smooth set
+    Mat<Dim> dQ, dR, Qp, Rp, Qm, Rm;
+    qr_differential<Dim>(Q, R, dA, &dQ, &dR);
+    const double h = 1e-6;
+    qr_decompose<Dim>(A + h * dA, &Qp, &Rp);
+    qr_decompose<Dim>(A - h * dA, &Qm, &Rm);
+    EXPECT_LT(((Qp - Qm) / (2 * h) - dQ).norm(), 1e-6 * (1 + dQ.norm()));
+    EXPECT_LT(((Rp - Rm) / (2 * h) - dR).norm(), 1e-6 * (1 + dR.norm()));
+    EXPECT_LT((dQ * R + Q * dR - dA).norm(), 1e-12 * (1 + dA.norm()));  // d(QR) = dA
+    ++checked;
+  }
+  EXPECT_GT(checked, 40);
+}
+
+TEST(Qr, DifferentialMatchesDifferencesOfTheFactors) {
+  expect_qr_differential_matches_differences<2>();
+  expect_qr_differential_matches_differences<3>();
+}
+
 }  // namespace
 }  // namespace tear

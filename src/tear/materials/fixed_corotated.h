@@ -13,7 +13,6 @@ struct FixedCorotated {
   static constexpr bool kHasFiberStiffness = false;
   static constexpr bool kDegradedByDamage = false;
   static constexpr bool kClosedFormKirchhoff = false;
-  static constexpr bool kAnalyticDifferential = true;
 
   // mu, lambda are the Lame parameters of (E, nu) as make_material sets them.
   static void map_parameters(MaterialParams*, Real, Real) {}

@@ -1,5 +1,6 @@
 // materials/: scalar and matrix helpers the model files share (the floored log, the differential
-// of the cofactor, the numerical stress differential). Pure functions; no model knowledge.
+// of the cofactor, the differential of an isotropic stress through the SVD). Pure functions; no
+// model knowledge.
 #pragma once
 
 #include <Eigen/Geometry>  // cross()
@@ -50,31 +51,34 @@ inline Mat<Dim> cofactor_differential(const Mat<Dim>& F, const Mat<Dim>& dF) {
   }
 }
 
-// Numerical fallback for dP = dP/dF : dF, for models whose analytic differential is not
-// written yet (qr_aniso until EQUATIONS.md §2 "Implicit integration needs dP/dF" lands,
-// stvk_hencky). Central differences of `stress` (F -> P) along each entry of F with step
-// h = eps^(1/3) max(1, max |F_ij|), contracted with dF. Truncation ~h^2 P''' and round-off
-// ~eps P / h: ~1e-10 relative for moderate strains (double), less accurate where P varies on
-// scales near h (e.g. a log-based model as J -> 0, where the error grows like (h / J)^2).
-// Contracting the entrywise Jacobian, rather than differencing along dF, makes the result linear in
-// dF and independent of its scale. Costs up to 2 Dim^2 stress evaluations: fine for a fallback, not
-// for a hot loop.
-template <int Dim, class Stress>
-Mat<Dim> numeric_stress_differential(const Stress& stress, const Mat<Dim>& F, const Mat<Dim>& dF) {
-  const Real h =
-      std::cbrt(std::numeric_limits<Real>::epsilon()) * std::max(Real(1), F.cwiseAbs().maxCoeff());
-  Mat<Dim> dP = Mat<Dim>::Zero();
-  for (int j = 0; j < Dim; ++j)
-    for (int i = 0; i < Dim; ++i) {
-      if (dF(i, j) == 0) continue;
-      Mat<Dim> Fp = F, Fm = F;
-      Fp(i, j) += h;
-      Fm(i, j) -= h;
-      // Divide by the step actually taken (F_ij +- h is rounded).
-      const Mat<Dim> dP_dFij = (stress(Fp) - stress(Fm)) / (Fp(i, j) - Fm(i, j));
-      dP += dF(i, j) * dP_dFij;
+// dP = dP/dF : dF for an isotropic energy psi(sigma) of the signed singular values, F = U diag(sigma)
+// V^T, from p = dpsi/dsigma and the Hessian H = d2psi/dsigma2 (Irving-Teran-Fedkiw 2004's
+// rotated frame): with G = U^T dF V, the rotated differential U^T dP V has
+//   diagonal:            sum_j H_ij G_jj,
+//   pairs (i, j), i != j: [a b; b a] [G_ij; G_ji],  a = (s1 + s2)/2, b = (s1 - s2)/2,
+//   s1 = (p_i - p_j)/(sigma_i - sigma_j),  s2 = (p_i + p_j)/(sigma_i + sigma_j).
+// Where sigma_i ~ sigma_j, s1 is its limit H_ii - H_ij; where sigma_i ~ -sigma_j (an inverted F
+// with two singular values of equal size) s2's denominator is floored at the same relative size,
+// keeping its sign: the differential stays bounded there.
+template <int Dim>
+inline Mat<Dim> isotropic_stress_differential(const Mat<Dim>& U, const Vec<Dim>& sigma,
+                                              const Mat<Dim>& V, const Vec<Dim>& p,
+                                              const Mat<Dim>& H, const Mat<Dim>& dF) {
+  const Real tol = std::sqrt(std::numeric_limits<Real>::epsilon()) *
+                   std::max(Real(1), sigma.cwiseAbs().maxCoeff());
+  const Mat<Dim> G = U.transpose() * dF * V;
+  Mat<Dim> dPhat;
+  dPhat.diagonal() = H * G.diagonal();
+  for (int i = 0; i < Dim; ++i)
+    for (int j = i + 1; j < Dim; ++j) {
+      const Real diff = sigma[i] - sigma[j], sum = sigma[i] + sigma[j];
+      const Real s1 = std::abs(diff) > tol ? (p[i] - p[j]) / diff : H(i, i) - H(i, j);
+      const Real s2 = (p[i] + p[j]) / (std::abs(sum) > tol ? sum : std::copysign(tol, sum));
+      const Real a = (s1 + s2) / 2, b = (s1 - s2) / 2;
+      dPhat(i, j) = a * G(i, j) + b * G(j, i);
+      dPhat(j, i) = b * G(i, j) + a * G(j, i);
     }
-  return dP;
+  return U * dPhat * V.transpose();
 }
 
 }  // namespace tear

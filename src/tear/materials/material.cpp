@@ -1,5 +1,6 @@
 #include "tear/materials/material.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 
@@ -67,6 +68,30 @@ Mat<Dim> stress_differential(const MaterialParams& m, const Mat<Dim>& F, const M
   return visit_model(m.model, [&](auto M) { return M.stress_differential(m, F, D, dF, g); });
 }
 
+template <int Dim>
+StressDerivative<Dim> stress_derivative(const MaterialParams& m, const Mat<Dim>& F,
+                                        const Mat<Dim>& D, Real g) {
+  StressDerivative<Dim> A;
+  visit_model(m.model, [&](auto M) {
+    for (int k = 0; k < Dim * Dim; ++k) {
+      Mat<Dim> dF = Mat<Dim>::Zero();
+      dF(k % Dim, k / Dim) = 1;  // column-major: entry (i, j) is k = i + Dim j
+      A.col(k) = M.stress_differential(m, F, D, dF, g).reshaped();
+    }
+  });
+  return A;
+}
+
+template <int Dim>
+StressDerivative<Dim> projected_stress_derivative(const MaterialParams& m, const Mat<Dim>& F,
+                                                  const Mat<Dim>& D, Real g) {
+  const StressDerivative<Dim> A = stress_derivative<Dim>(m, F, D, g);
+  const StressDerivative<Dim> sym = (A + A.transpose()) / 2;
+  Eigen::SelfAdjointEigenSolver<StressDerivative<Dim>> eig(sym);
+  const auto values = eig.eigenvalues().cwiseMax(Real(0));
+  return eig.eigenvectors() * values.asDiagonal() * eig.eigenvectors().transpose();
+}
+
 template Real energy_density<2>(const MaterialParams&, const Mat<2>&, const Mat<2>&, Real);
 template Real energy_density<3>(const MaterialParams&, const Mat<3>&, const Mat<3>&, Real);
 template Mat<2> first_piola<2>(const MaterialParams&, const Mat<2>&, const Mat<2>&, Real);
@@ -77,5 +102,13 @@ template Mat<2> stress_differential<2>(const MaterialParams&, const Mat<2>&, con
                                        const Mat<2>&, Real);
 template Mat<3> stress_differential<3>(const MaterialParams&, const Mat<3>&, const Mat<3>&,
                                        const Mat<3>&, Real);
+template StressDerivative<2> stress_derivative<2>(const MaterialParams&, const Mat<2>&,
+                                                  const Mat<2>&, Real);
+template StressDerivative<3> stress_derivative<3>(const MaterialParams&, const Mat<3>&,
+                                                  const Mat<3>&, Real);
+template StressDerivative<2> projected_stress_derivative<2>(const MaterialParams&, const Mat<2>&,
+                                                           const Mat<2>&, Real);
+template StressDerivative<3> projected_stress_derivative<3>(const MaterialParams&, const Mat<3>&,
+                                                           const Mat<3>&, Real);
 
 }  // namespace tear

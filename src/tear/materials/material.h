@@ -58,11 +58,29 @@ Mat<Dim> kirchhoff_stress(const MaterialParams& m, const Mat<Dim>& F, const Mat<
                           Real g = 1);
 
 // Stress differential dP = dP/dF : dF (the directional derivative of first_piola along dF,
-// at fixed D and g), for implicit integration. Analytic where the model's traits say so
-// (registry.h, kAnalyticDifferential), else central differences of P (helpers.h).
+// at fixed D and g), for implicit integration. Every model writes it in closed form; it is
+// checked against central differences of P (tests/materials/).
 template <int Dim>
 Mat<Dim> stress_differential(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D,
                              const Mat<Dim>& dF, Real g = 1);
+
+// dP/dF as a Dim^2 x Dim^2 matrix on column-major vec(F) (vec(dP) = A vec(dF)): the Hessian of
+// Psi, symmetric up to round-off. Built column by column from stress_differential.
+template <int Dim>
+using StressDerivative = Eigen::Matrix<Real, Dim * Dim, Dim * Dim>;
+
+template <int Dim>
+StressDerivative<Dim> stress_derivative(const MaterialParams& m, const Mat<Dim>& F,
+                                        const Mat<Dim>& D, Real g = 1);
+
+// The nearest positive semi-definite matrix to stress_derivative (symmetrised, its negative
+// eigenvalues set to zero): what a Newton step on the incremental potential uses, so that the
+// system it solves stays positive definite where the energy is not convex (compression, inverted
+// or squashed fibers). Per-particle eigen-decomposition of the Dim^2 x Dim^2 matrix: exact for
+// every model, including qr_aniso, whose fiber terms have no closed-form eigensystem in F.
+template <int Dim>
+StressDerivative<Dim> projected_stress_derivative(const MaterialParams& m, const Mat<Dim>& F,
+                                                  const Mat<Dim>& D, Real g = 1);
 
 // qr_aniso: first_piola(m, F, D, g) from the undegraded first_piola(m, F, D) = P, without the
 // QR: g changes only mu and lambda, and the terms they multiply are, for an orthonormal

@@ -14,7 +14,6 @@ struct NeoHookean {
   static constexpr bool kHasFiberStiffness = false;
   static constexpr bool kDegradedByDamage = false;
   static constexpr bool kClosedFormKirchhoff = true;
-  static constexpr bool kAnalyticDifferential = true;
 
   // mu, lambda are the Lame parameters of (E, nu) as make_material sets them.
   static void map_parameters(MaterialParams*, Real, Real) {}

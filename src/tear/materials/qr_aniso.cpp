@@ -1,5 +1,6 @@
 #include "tear/materials/qr_aniso.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "tear/materials/helpers.h"
@@ -71,11 +72,45 @@ Mat<Dim> QrAniso::first_piola(const MaterialParams& m, const Mat<Dim>& F, const 
   return (p.mu * FD + Q * S) * D.transpose();
 }
 
+// The energy depends on R only through |R| = |F|, J = prod r_ii = det F, r11 = |F a1| and, in 3D,
+// sqrt(r12^2 + r22^2) = |F a2| (column 2 of R is Q^T F a2, whose third entry is 0). So
+//   Psi = g mu/2 (|F|^2 - d) - g mu (J - 1) + lambda_g/2 (J - 1)^2 + sum_k k/2 (|F a_k| - 1)^2,
+//   P   = g mu (F - cof F) + lambda_g (J - 1) cof F + sum_k k (n_k - 1) q_k a_k^T,
+// (n_k = |F a_k|, q_k = F a_k / n_k), the same P as the QR form, and its differential needs no
+// dQ, dR (the supplement's §3.3-3.4 route gives the same dP but divides by r11 and r22):
+//   dP = g mu (dF - dcof) + lambda_g (dJ cof F + (J - 1) dcof)
+//      + sum_k k [(q.df) q + (1 - 1/n) (df - (q.df) q)] a_k^T,   df = dF a_k.
+// At J = 1 it takes the tension side, as the stress does. A fiber squashed to nothing has no
+// derivative (the energy has a cone point at n = 0): n is floored at kFiberFloor there.
+namespace {
+
+constexpr Real kFiberFloor = Real(1e-6);
+
+template <int Dim>
+void add_fiber_differential(Real k, const Vec<Dim>& a, const Mat<Dim>& F, const Mat<Dim>& dF,
+                            Mat<Dim>* dP) {
+  if (k == 0) return;
+  const Vec<Dim> f = F * a, df = dF * a;
+  const Real n = f.norm();
+  const Vec<Dim> q = n > 0 ? Vec<Dim>(f / n) : Vec<Dim>::Zero();
+  const Real qdf = q.dot(df);
+  const Vec<Dim> along = qdf * q;
+  *dP += k * (along + (1 - 1 / std::max(n, kFiberFloor)) * (df - along)) * a.transpose();
+}
+
+}  // namespace
+
 template <int Dim>
 Mat<Dim> QrAniso::stress_differential(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D,
                                       const Mat<Dim>& dF, Real g) {
-  const auto stress = [&](const Mat<Dim>& G) { return first_piola<Dim>(m, G, D, g); };
-  return numeric_stress_differential<Dim>(stress, F, dF);
+  const Real J = F.determinant();
+  const QrEnergyParts p = degraded(m, J, g);
+  const Mat<Dim> cof = cofactor<Dim>(F), dcof = cofactor_differential<Dim>(F, dF);
+  const Real dJ = cof.cwiseProduct(dF).sum();
+  Mat<Dim> dP = p.mu * (dF - dcof) + p.lambda * (dJ * cof + (J - 1) * dcof);
+  add_fiber_differential<Dim>(m.kx, D.col(0), F, dF, &dP);
+  if constexpr (Dim == 3) add_fiber_differential<Dim>(m.ky, D.col(1), F, dF, &dP);
+  return dP;
 }
 
 template <int Dim>

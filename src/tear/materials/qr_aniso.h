@@ -16,10 +16,7 @@ struct QrAniso {
   static constexpr const char* kName = "qr_aniso";
   static constexpr bool kHasFiberStiffness = true;  // uses kx (and ky in 3D)
   static constexpr bool kDegradedByDamage = true;   // uses g
-  // dP is numerical until the analytic QR derivative (EQUATIONS.md §2 "Implicit integration
-  // needs dP/dF", supplement §3.3-3.4) replaces it.
   static constexpr bool kClosedFormKirchhoff = false;
-  static constexpr bool kAnalyticDifferential = false;
 
   // lambda = lambda_Lame + mu (EQUATIONS.md §2 small-strain note); kx, ky = fiber scales * mu.
   static void map_parameters(MaterialParams* m, Real fiber_scale1, Real fiber_scale2);
@@ -32,7 +29,7 @@ struct QrAniso {
   static Mat<Dim> first_piola(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D,
                               Real g);
 
-  // Central differences of first_piola (numeric_stress_differential, helpers.h).
+  // Analytic, from the QR-free form of the same energy (qr_aniso.cpp); degraded like P.
   template <int Dim>
   static Mat<Dim> stress_differential(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D,
                                       const Mat<Dim>& dF, Real g);

@@ -17,12 +17,12 @@ namespace tear {
 //   kModel, kName           its `Model` value and its scene name
 //   kHasFiberStiffness      uses kx, ky (the scene refuses a nonzero fiber_scale otherwise)
 //   kDegradedByDamage       uses g (the scene refuses a damage block otherwise)
-//   kAnalyticDifferential   stress_differential is closed-form (else numerical, helpers.h)
 //   kClosedFormKirchhoff    has kirchhoff_stress<Dim>(m, F, D, g) = P F^T in closed form
 //                           (else material.cpp forms first_piola times F^T)
 //   map_parameters(MaterialParams*, fiber_scale1, fiber_scale2), run after make_material has
 //   set the Lame parameters; energy<Dim>(m, F, D, g), first_piola<Dim>(m, F, D, g) and
-//   stress_differential<Dim>(m, F, D, dF, g), as the free functions of material.h.
+//   stress_differential<Dim>(m, F, D, dF, g) (analytic: the implicit integrator's Newton steps
+//   need it exact), as the free functions of material.h.
 // Plasticity is not a model: any model takes a return map on its F (plasticity.h).
 // Adding a model: its file, its value in `Model` (material.h) and its entry in `Models`.
 template <class... Ms>
@@ -69,7 +69,7 @@ auto visit_model(Model model, Fn&& fn) {
 struct ModelTraits {
   Model model;
   const char* name;
-  bool has_fiber_stiffness, degraded_by_damage, analytic_differential, closed_form_kirchhoff;
+  bool has_fiber_stiffness, degraded_by_damage, closed_form_kirchhoff;
 };
 
 namespace registry_detail {
@@ -77,7 +77,7 @@ namespace registry_detail {
 template <class... Ms>
 constexpr std::array<ModelTraits, sizeof...(Ms)> traits_of(ModelList<Ms...>) {
   return {{ModelTraits{Ms::kModel, Ms::kName, Ms::kHasFiberStiffness, Ms::kDegradedByDamage,
-                       Ms::kAnalyticDifferential, Ms::kClosedFormKirchhoff}...}};
+                       Ms::kClosedFormKirchhoff}...}};
 }
 
 }  // namespace registry_detail

@@ -34,11 +34,30 @@ Mat<Dim> StvkHencky::first_piola(const MaterialParams& m, const Mat<Dim>& F, con
   return U * dpsi.asDiagonal() * V.transpose();
 }
 
+// With l_i = log sigma_i (floored) and T = sum l: p_i = (2 mu l_i + lambda T) l'_i and
+// H_ii = (2 mu + lambda) l'_i^2 + (2 mu l_i + lambda T) l''_i, H_ij = lambda l'_i l'_j.
 template <int Dim>
 Mat<Dim> StvkHencky::stress_differential(const MaterialParams& m, const Mat<Dim>& F,
-                                         const Mat<Dim>& D, const Mat<Dim>& dF, Real g) {
-  const auto stress = [&](const Mat<Dim>& G) { return first_piola<Dim>(m, G, D, g); };
-  return numeric_stress_differential<Dim>(stress, F, dF);
+                                         const Mat<Dim>&, const Mat<Dim>& dF, Real) {
+  Mat<Dim> U, V;
+  Vec<Dim> sigma;
+  signed_svd<Dim>(F, &U, &sigma, &V);
+  Vec<Dim> l, l1, l2;
+  for (int i = 0; i < Dim; ++i) {
+    l[i] = safe_log(sigma[i]);
+    l1[i] = safe_log_slope(sigma[i]);
+    l2[i] = safe_log_curvature(sigma[i]);
+  }
+  const Real trace = l.sum();
+  Vec<Dim> p;
+  Mat<Dim> H;
+  for (int i = 0; i < Dim; ++i) {
+    const Real t = 2 * m.mu * l[i] + m.lambda * trace;
+    p[i] = t * l1[i];
+    for (int j = 0; j < Dim; ++j) H(i, j) = m.lambda * l1[i] * l1[j];
+    H(i, i) += 2 * m.mu * l1[i] * l1[i] + t * l2[i];
+  }
+  return isotropic_stress_differential<Dim>(U, sigma, V, p, H, dF);
 }
 
 template Real StvkHencky::energy<2>(const MaterialParams&, const Mat<2>&, const Mat<2>&, Real);

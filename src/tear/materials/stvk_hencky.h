@@ -1,5 +1,5 @@
 // materials/: St. Venant-Kirchhoff with Hencky strain on the signed singular values: energy,
-// stress P and a numerical dP. Isotropic; ignores fibers and damage.
+// stress P and its differential dP. Isotropic; ignores fibers and damage.
 #pragma once
 
 #include "tear/materials/material.h"
@@ -13,9 +13,7 @@ struct StvkHencky {
   static constexpr const char* kName = "stvk_hencky";
   static constexpr bool kHasFiberStiffness = false;
   static constexpr bool kDegradedByDamage = false;
-  // Numerical until the SVD-based analytic differential is written.
   static constexpr bool kClosedFormKirchhoff = false;
-  static constexpr bool kAnalyticDifferential = false;
 
   // mu, lambda are the Lame parameters of (E, nu) as make_material sets them.
   static void map_parameters(MaterialParams*, Real, Real) {}
@@ -28,7 +26,7 @@ struct StvkHencky {
   static Mat<Dim> first_piola(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D,
                               Real g);
 
-  // Central differences of first_piola (numeric_stress_differential, helpers.h).
+  // Analytic through the SVD (isotropic_stress_differential, helpers.h).
   template <int Dim>
   static Mat<Dim> stress_differential(const MaterialParams& m, const Mat<Dim>& F, const Mat<Dim>& D,
                                       const Mat<Dim>& dF, Real g);

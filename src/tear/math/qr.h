@@ -102,6 +102,31 @@ inline void qr_decompose(const Mat<Dim>& A, Mat<Dim>* Q, Mat<Dim>* R) {
   }
 }
 
+// Differential of the QR decomposition A = Q R (qr_decompose's convention) along dA, as the
+// AnisoMPM supplement §3.4 and Jiang et al. 2017 §1 derive it: Q^T dA = W R + dR with
+// W = Q^T dQ skew and dR upper triangular, so the strictly lower part of M = Q^T dA fixes W
+// (2D: w = m21 / r11; 3D: w3 = m21 / r11, w2 = -m31 / r11, w1 = (m32 + w2 r12) / r22, with
+// W = [[0, -w3, w2], [w3, 0, -w1], [-w2, w1, 0]]); then dR = M - W R and dQ = Q W. It divides by
+// r11 (and r22 in 3D): the factorization is not differentiable where they vanish.
+template <int Dim>
+inline void qr_differential(const Mat<Dim>& Q, const Mat<Dim>& R, const Mat<Dim>& dA, Mat<Dim>* dQ,
+                            Mat<Dim>* dR) {
+  const Mat<Dim> M = Q.transpose() * dA;
+  Mat<Dim> W;
+  if constexpr (Dim == 2) {
+    const Real w = M(1, 0) / R(0, 0);
+    W << 0, -w, w, 0;
+  } else {
+    const Real w3 = M(1, 0) / R(0, 0), w2 = -M(2, 0) / R(0, 0);
+    const Real w1 = (M(2, 1) + w2 * R(0, 1)) / R(1, 1);
+    W << 0, -w3, w2, w3, 0, -w1, -w2, w1, 0;
+  }
+  *dR = M - W * R;
+  for (int j = 0; j < Dim; ++j)
+    for (int i = j + 1; i < Dim; ++i) (*dR)(i, j) = 0;  // zero up to round-off
+  *dQ = Q * W;
+}
+
 // cof(A) = det(A) A^{-T}, written without division (the adjugate transposed).
 template <int Dim>
 inline Mat<Dim> cofactor(const Mat<Dim>& A) {
