@@ -5,6 +5,7 @@
 #include "tear/damage/phase_field.h"
 #include "tear/exec/domain.h"
 #include "tear/mpm/explicit_step.h"
+#include "tear/mpm/implicit_step.h"
 #include "tear/mpm/measure.h"
 #include "tear/mpm/time_step.h"
 #include "tear/scene/sampling.h"
@@ -12,7 +13,7 @@
 
 namespace tear::testing {
 
-// A scene's MPM settings and state (one particle group), stepped by the explicit integrator.
+// A scene's MPM settings and state (one particle group), stepped by the scene's integrator.
 template <int Dim>
 class MpmSim {
  public:
@@ -26,7 +27,12 @@ class MpmSim {
   MpmSim(const Scene& scene, std::vector<Particles<Dim>> groups)
       : settings_(mpm_settings(scene)), state_(make_mpm_state<Dim>(settings_, std::move(groups))) {}
 
-  void step(double dt) { explicit_step(settings_, &state_, dt, &record_, domain()); }
+  void step(double dt) {
+    if (settings_.integrator == Integrator::Implicit)
+      implicit_step(settings_, &state_, dt, &record_, domain());
+    else
+      explicit_step(settings_, &state_, dt, &record_, domain());
+  }
   // The damage update of one step alone, particles held still.
   void damage_step(double dt) { damage_only_step(settings_, &state_, dt, &record_, domain()); }
   DtLimits dt_limits() const { return tear::dt_limits(settings_, state_, domain()); }
@@ -47,6 +53,8 @@ class MpmSim {
   double time() const { return state_.time; }
   void set_time(double t) { state_.time = t; }
   DamageSolveStats& damage_stats() { return record_.damage; }
+  ImplicitSolveStats& implicit_stats() { return record_.implicit; }
+  MpmSettings& mutable_settings() { return settings_; }
 
   double total_mass() const { return tear::total_mass(state_); }
   Vec3d momentum() const { return total_momentum(state_); }

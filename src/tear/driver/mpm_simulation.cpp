@@ -6,6 +6,7 @@
 #include "tear/io/binary.h"
 #include "tear/io/field_io.h"
 #include "tear/mpm/explicit_step.h"
+#include "tear/mpm/implicit_step.h"
 #include "tear/mpm/measure.h"
 #include "tear/scene/sampling.h"
 
@@ -19,7 +20,7 @@ namespace {
 
 // Checkpoint format: this magic (with its version), then the header below, then each group's
 // state fields as io/field_io.h writes them.
-const std::string kCheckpointMagic = "TEARCKP5";
+const std::string kCheckpointMagic = "TEARCKP6";
 
 template <int Dim>
 class MpmSimulation final : public Simulation {
@@ -44,7 +45,10 @@ class MpmSimulation final : public Simulation {
 
   double step(double dt_cap) override {
     const double dt = std::min(dt_cap, estimate_dt());
-    explicit_step(settings_, &state_, dt, &record_, domain_);
+    if (settings_.integrator == Integrator::Implicit)
+      implicit_step(settings_, &state_, dt, &record_, domain_);
+    else
+      explicit_step(settings_, &state_, dt, &record_, domain_);
     dt_min_ = std::min(dt_min_, dt);
     dt_max_ = std::max(dt_max_, dt);
     ++steps_since_stats_;
@@ -93,6 +97,14 @@ class MpmSimulation final : public Simulation {
     s.damage_change = ds.change_max;
     s.damage_unconverged = ds.unconverged;
     ds = DamageSolveStats();
+    ImplicitSolveStats& is = record_.implicit;
+    s.implicit_figures = settings_.integrator == Integrator::Implicit;
+    s.newton_iterations = is.newton_iterations;
+    s.newton_iterations_max = is.newton_iterations_max;
+    s.cg_iterations = is.cg_iterations;
+    s.newton_residual = is.residual_max;
+    s.newton_unconverged = is.unconverged;
+    is = ImplicitSolveStats();
     s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     steps_since_stats_ = 0;
     dt_min_ = std::numeric_limits<double>::infinity();
@@ -128,6 +140,13 @@ class MpmSimulation final : public Simulation {
     w.put<int32_t>(ds.iterations_max);
     w.put<double>(ds.change_max);
     w.put<int64_t>(ds.unconverged);
+    const ImplicitSolveStats& is = record_.implicit;
+    w.put<int64_t>(is.solves);
+    w.put<int64_t>(is.newton_iterations);
+    w.put<int32_t>(is.newton_iterations_max);
+    w.put<int64_t>(is.cg_iterations);
+    w.put<double>(is.residual_max);
+    w.put<int64_t>(is.unconverged);
     for (const Particles<Dim>& g : state_.groups) put_fields(g, &w);
     return std::move(w.bytes());
   }
@@ -167,6 +186,13 @@ class MpmSimulation final : public Simulation {
     ds.iterations_max = r.get<int32_t>();
     ds.change_max = r.get<double>();
     ds.unconverged = long(r.get<int64_t>());
+    ImplicitSolveStats is;
+    is.solves = long(r.get<int64_t>());
+    is.newton_iterations = long(r.get<int64_t>());
+    is.newton_iterations_max = r.get<int32_t>();
+    is.cg_iterations = long(r.get<int64_t>());
+    is.residual_max = r.get<double>();
+    is.unconverged = long(r.get<int64_t>());
     for (uint32_t g = 0; g < groups; ++g) get_fields(&r, size_t(counts[g]), &stores[g]);
     if (!r.at_end()) throw std::runtime_error("corrupt checkpoint (trailing bytes)");
     state_.groups = std::move(stores);
@@ -177,6 +203,7 @@ class MpmSimulation final : public Simulation {
     dt_min_ = dt_min;
     dt_max_ = dt_max;
     record_.damage = ds;
+    record_.implicit = is;
   }
 
   std::vector<std::pair<std::string, double>> phase_seconds() const override {

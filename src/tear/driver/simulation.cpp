@@ -26,6 +26,13 @@ nlohmann::json FrameStats::to_json() const {
     j["damage_unconverged"] = damage_unconverged;
     j["damage_change"] = damage_change;
   }
+  if (implicit_figures) {
+    j["newton_iterations"] = newton_iterations;
+    j["newton_iterations_max"] = newton_iterations_max;
+    j["cg_iterations"] = cg_iterations;
+    j["newton_residual"] = newton_residual;
+    j["newton_unconverged"] = newton_unconverged;
+  }
   return j;
 }
 

@@ -36,6 +36,13 @@ struct FrameStats {
   long damage_solves = 0, damage_iterations = 0, damage_unconverged = 0;
   int damage_iterations_max = 0;
   double damage_change = 0;
+  // The implicit integrator only (written when implicit_figures): Newton iterations since the
+  // previous frame summed and at most per step, CG iterations summed, the largest final
+  // residual and the steps whose Newton solve stopped at implicit.max_iterations.
+  bool implicit_figures = false;
+  long newton_iterations = 0, cg_iterations = 0, newton_unconverged = 0;
+  int newton_iterations_max = 0;
+  double newton_residual = 0;
   double wall_s = 0;  // wall time since the start of the run
   nlohmann::json to_json() const;
 };

@@ -47,19 +47,18 @@ Shape placed_shape(const Collider& c, const ColliderState& s) {
 }
 
 template <int Dim>
-void apply_colliders(SparseGrid<Dim>& grid, ContactType walls,
-                     const std::vector<Collider>& colliders, double time) {
-  std::vector<ColliderState> states;
-  for (const Collider& col : colliders) states.push_back(collider_state(col, time));
+NodeContacts<Dim>::NodeContacts(const SparseGrid<Dim>& grid, ContactType walls,
+                                const std::vector<Collider>& colliders, double time)
+    : grid_(grid), walls_(walls), colliders_(colliders), n_nodes_(grid.num_nodes()) {
+  for (const Collider& col : colliders) states_.push_back(collider_state(col, time));
   // World boxes around the moved colliders: nodes outside skip the signed distance (the boxes
   // are a little larger than the shapes, so no node inside is skipped; half-spaces: no box).
-  std::vector<std::pair<Vec3d, Vec3d>> boxes;
   for (size_t c = 0; c < colliders.size(); ++c) {
     Vec3d lo = Vec3d::Constant(-std::numeric_limits<double>::infinity()), hi = -lo;
     if (colliders[c].shape.type != Shape::Type::HalfSpace) {
       Vec3d rest_lo, rest_hi;
       colliders[c].shape.bounds(&rest_lo, &rest_hi);
-      const ColliderState& st = states[c];
+      const ColliderState& st = states_[c];
       std::swap(lo, hi);
       for (int k = 0; k < 8; ++k) {
         const Vec3d corner((k & 1) ? rest_hi.x() : rest_lo.x(), (k & 2) ? rest_hi.y() : rest_lo.y(),
@@ -70,47 +69,23 @@ void apply_colliders(SparseGrid<Dim>& grid, ContactType walls,
       const double pad = 1e-9 * (1 + (hi - lo).cwiseAbs().maxCoeff());
       lo.array() -= pad, hi.array() += pad;
     }
-    boxes.emplace_back(lo, hi);
+    boxes_.emplace_back(lo, hi);
   }
-  const IVec<Dim> n_nodes = grid.num_nodes();
-  const int blocks = grid.num_blocks();
+}
+
+template <int Dim>
+void apply_colliders(SparseGrid<Dim>& grid, ContactType walls,
+                     const std::vector<Collider>& colliders, double time) {
+  const NodeContacts<Dim> contacts(grid, walls, colliders, time);
   auto contact = [&](int node, Vec<Dim>& v) {
-    if (walls != ContactType::None) {
-      const IVec<Dim> g = grid.node_coord(node);
-      for (int d = 0; d < Dim; ++d) {
-        Vec<Dim> n = Vec<Dim>::Zero();
-        if (g[d] < kWallNodes)
-          n[d] = 1;
-        else if (g[d] > n_nodes[d] - 1 - kWallNodes)
-          n[d] = -1;
-        else
-          continue;
-        v = contact_velocity<Dim>(v, Vec<Dim>::Zero(), n, walls, 0);
-      }
-    }
-    if (states.empty()) return;
-    const Vec<Dim> xi = grid.node_position(node);
-    Vec3d p = Vec3d::Zero();
-    p.template head<Dim>() = xi.template cast<double>();
-    for (size_t c = 0; c < colliders.size(); ++c) {
-      const ColliderState& s = states[c];
-      if (!s.active) continue;
-      if ((p.array() < boxes[c].first.array()).any() || (p.array() > boxes[c].second.array()).any())
-        continue;
-      const Collider& col = colliders[c];
-      const Vec3d centre = s.center0 + s.displacement;
-      const Vec3d q = s.center0 + s.rotation.transpose() * (p - centre);
-      if (!col.shape.inside(q)) continue;
-      const Vec3d n3 = s.rotation * col.shape.normal_at(q);
-      const Vec3d vw3 = col.velocity + col.angular_velocity.cross(p - centre);
-      v = contact_velocity<Dim>(v, vw3.template head<Dim>().template cast<Real>(),
-                                n3.template head<Dim>().template cast<Real>().normalized(),
-                                col.type, Real(col.friction));
-    }
+    contacts.visit(node, [&](const Vec<Dim>& n, const Vec<Dim>& v_wall, ContactType type,
+                             Real friction) {
+      v = contact_velocity<Dim>(v, v_wall, n, type, friction);
+    });
   };
   // Both velocity fields of a node where crack fields are split (SparseGrid::mass2).
   const bool split = grid.split();
-  parallel_for(size_t(blocks), [&](size_t blk_index) {
+  parallel_for(size_t(grid.num_blocks()), [&](size_t blk_index) {
     const int blk = int(blk_index);
     for (int l = 0; l < SparseGrid<Dim>::kNodesPerBlock; ++l) {
       const int node = blk * SparseGrid<Dim>::kNodesPerBlock + l;
@@ -120,6 +95,8 @@ void apply_colliders(SparseGrid<Dim>& grid, ContactType walls,
   });
 }
 
+template class NodeContacts<2>;
+template class NodeContacts<3>;
 template Vec<2> contact_velocity<2>(const Vec<2>&, const Vec<2>&, const Vec<2>&, ContactType, Real);
 template Vec<3> contact_velocity<3>(const Vec<3>&, const Vec<3>&, const Vec<3>&, ContactType, Real);
 template void apply_colliders<2>(SparseGrid<2>&, ContactType, const std::vector<Collider>&, double);

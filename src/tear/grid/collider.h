@@ -6,6 +6,8 @@
 #include "tear/geometry/shape.h"
 #include "tear/grid/sparse_grid.h"
 
+#include <Eigen/Geometry>
+#include <utility>
 #include <vector>
 
 namespace tear {
@@ -47,6 +49,65 @@ ColliderState collider_state(const Collider& c, double time);
 // transform, so that placed.sdf(p) is the rest shape's distance at the point that moves to p
 // (for pictures: render/ draws shapes, not colliders).
 Shape placed_shape(const Collider& c, const ColliderState& state);
+
+// The boundaries touching grid nodes at one time: the domain walls (nodes within kWallNodes of a
+// face) and every active collider whose moved shape holds the node. apply_colliders and an
+// implicit solve's velocity constraints share it.
+template <int Dim>
+class NodeContacts {
+ public:
+  NodeContacts(const SparseGrid<Dim>& grid, ContactType walls,
+               const std::vector<Collider>& colliders, double time);
+
+  // fn(n, v_wall, type, friction) for each boundary touching `node`, walls (one call per face
+  // the node is near) then colliders in scene order: n the boundary's unit normal pointing into
+  // the material side, v_wall its velocity at the node.
+  template <class Fn>
+  void visit(int node, Fn&& fn) const;
+
+ private:
+  const SparseGrid<Dim>& grid_;
+  ContactType walls_;
+  const std::vector<Collider>& colliders_;
+  std::vector<ColliderState> states_;
+  std::vector<std::pair<Vec3d, Vec3d>> boxes_;  // world boxes around the moved colliders
+  IVec<Dim> n_nodes_;
+};
+
+template <int Dim>
+template <class Fn>
+void NodeContacts<Dim>::visit(int node, Fn&& fn) const {
+  if (walls_ != ContactType::None) {
+    const IVec<Dim> g = grid_.node_coord(node);
+    for (int d = 0; d < Dim; ++d) {
+      Vec<Dim> n = Vec<Dim>::Zero();
+      if (g[d] < kWallNodes)
+        n[d] = 1;
+      else if (g[d] > n_nodes_[d] - 1 - kWallNodes)
+        n[d] = -1;
+      else
+        continue;
+      fn(n, Vec<Dim>::Zero().eval(), walls_, Real(0));
+    }
+  }
+  if (states_.empty()) return;
+  Vec3d p = Vec3d::Zero();
+  p.template head<Dim>() = grid_.node_position(node).template cast<double>();
+  for (size_t c = 0; c < colliders_.size(); ++c) {
+    const ColliderState& s = states_[c];
+    if (!s.active) continue;
+    if ((p.array() < boxes_[c].first.array()).any() || (p.array() > boxes_[c].second.array()).any())
+      continue;
+    const Collider& col = colliders_[c];
+    const Vec3d centre = s.center0 + s.displacement;
+    const Vec3d q = s.center0 + s.rotation.transpose() * (p - centre);
+    if (!col.shape.inside(q)) continue;
+    const Vec3d n3 = s.rotation * col.shape.normal_at(q);
+    const Vec3d vw3 = col.velocity + col.angular_velocity.cross(p - centre);
+    fn(Vec<Dim>(n3.template head<Dim>().template cast<Real>().normalized()),
+       Vec<Dim>(vw3.template head<Dim>().template cast<Real>()), col.type, Real(col.friction));
+  }
+}
 
 // Apply domain walls and every active collider to the grid velocities at `time` (both fields
 // of a node where the crack fields are split).

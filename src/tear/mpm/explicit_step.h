@@ -15,10 +15,21 @@ struct PhaseTimes {
 };
 
 // What steps leave behind besides the state: phase times and the implicit damage solver's
-// figures (reset by whoever reports them).
+// and the implicit integrator's figures (reset by whoever reports them).
+// The implicit integrator's solves (mpm/implicit_step.h), summed over steps.
+struct ImplicitSolveStats {
+  long solves = 0;
+  long newton_iterations = 0;  // summed over the solves
+  int newton_iterations_max = 0;  // of one solve
+  long cg_iterations = 0;  // summed over the Newton steps of every solve
+  double residual_max = 0;  // largest final residual (Newton's measure, implicit_step.h)
+  long unconverged = 0;  // solves that stopped at the Newton iteration limit
+};
+
 struct StepRecord {
   PhaseTimes times;
   DamageSolveStats damage;
+  ImplicitSolveStats implicit;
 };
 
 // One explicit step of size dt from state->time to state->time + dt. `domain` adds the halo

@@ -8,6 +8,7 @@
 #include "tear/materials/material.h"
 #include "tear/materials/plasticity.h"
 #include "tear/math/types.h"
+#include "tear/solvers/newton.h"
 
 #include <vector>
 
@@ -15,16 +16,22 @@ namespace tear {
 
 enum class Transfer { Apic, Pic, Flip };
 
+// explicit: symplectic Euler (mpm/explicit_step.h); implicit: backward Euler by Newton on the
+// incremental potential (mpm/implicit_step.h).
+enum class Integrator { Explicit, Implicit };
+
 struct MpmSettings {
   // Grid: nodes at domain_min + i dx; particles are kept one cell inside the domain.
   double dx = 0.01;
   Vec3d domain_min = Vec3d::Zero(), domain_max = Vec3d::Ones();  // z ignored in 2D
-  // Time step: dt = min(max_dt, cfl dx / wave speed, cfl dx / max|v|, the explicit damage
-  // limit) (ARCHITECTURE.md "One explicit step").
+  // Time step: dt = min(max_dt, cfl dx / wave speed (explicit integrator only), cfl dx / max|v|,
+  // the explicit damage limit) (ARCHITECTURE.md "One explicit step").
   double cfl = 0.4;
   double max_dt = 1e-3;
   Vec3d gravity = Vec3d::Zero();
   Transfer transfer = Transfer::Apic;
+  Integrator integrator = Integrator::Explicit;
+  NewtonSettings newton;  // the implicit integrator's solve
   double flip_ratio = 0.95;
   // > 0: FLIP's per-step ratio is exp(-dt / flip_relaxation_time) instead of flip_ratio, so
   // particle velocities relax to the grid's at a rate that does not depend on the step.

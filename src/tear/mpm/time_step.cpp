@@ -26,7 +26,9 @@ DtLimits dt_limits(const MpmSettings& s, const MpmState<Dim>& state, const Domai
   l.max_dt = s.max_dt;
   Real c = 0;
   for (const MaterialParams& m : s.materials) c = std::max(c, wave_speed(m));
-  l.wave = c > 0 ? s.cfl * s.dx / c : kNone;
+  // The implicit integrator is not limited by the wave speed (only by max_dt, the particle
+  // speed's displacement CFL and, with explicit damage, its limit).
+  l.wave = c > 0 && s.integrator == Integrator::Explicit ? s.cfl * s.dx / c : kNone;
   Real v2 = 0;
   for (const Particles<Dim>& p : state.groups)
     v2 = std::max(v2, parallel_max<Real>(

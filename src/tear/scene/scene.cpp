@@ -78,6 +78,32 @@ json parse_time(const Reader& r, const json& doc, Scene* s) {
           {"max_dt", s->max_dt}};
 }
 
+// The implicit integrator's Newton solve (solvers/newton.h); stored always, used when
+// "integrator" is "implicit".
+json parse_implicit(const Reader& r, const json& doc, Scene* s) {
+  static const json kEmpty = json::object();
+  const json* d = r.find(doc, "implicit");
+  if (!d) d = &kEmpty;
+  r.object(*d, "implicit", {"tolerance", "max_iterations", "cg_tolerance", "cg_max_iterations"});
+  NewtonSettings& n = s->newton;
+  n.tolerance = r.number(*d, "implicit", "tolerance", n.tolerance);
+  r.check(n.tolerance > 0 && n.tolerance < 1, "implicit.tolerance",
+          "must be in (0, 1), got " + json(n.tolerance).dump());
+  n.max_iterations = int(r.integer(*d, "implicit", "max_iterations", n.max_iterations));
+  r.check(n.max_iterations >= 1 && n.max_iterations <= 1000, "implicit.max_iterations",
+          "must be in [1, 1000], got " + std::to_string(n.max_iterations));
+  n.cg_tolerance = r.number(*d, "implicit", "cg_tolerance", n.cg_tolerance);
+  r.check(n.cg_tolerance > 0 && n.cg_tolerance < 1, "implicit.cg_tolerance",
+          "must be in (0, 1), got " + json(n.cg_tolerance).dump());
+  n.cg_max_iterations = int(r.integer(*d, "implicit", "cg_max_iterations", n.cg_max_iterations));
+  r.check(n.cg_max_iterations >= 1 && n.cg_max_iterations <= 1000000, "implicit.cg_max_iterations",
+          "must be in [1, 1e6], got " + std::to_string(n.cg_max_iterations));
+  return {{"tolerance", n.tolerance},
+          {"max_iterations", n.max_iterations},
+          {"cg_tolerance", n.cg_tolerance},
+          {"cg_max_iterations", n.cg_max_iterations}};
+}
+
 json parse_damage(const Reader& r, const json& doc, Scene* s) {
   static const json kEmpty = json::object();
   const json* d = r.find(doc, "damage");
@@ -361,8 +387,8 @@ Scene parse_scene(const json& doc, const std::string& file) {
   if (!doc.is_object()) r.fail("(root)", "must be an object, got " + type_desc(doc));
   r.object(doc, "",
            {"name", "description", "dim", "seed", "grid", "time", "gravity", "transfer", "flip_ratio",
-            "flip_relaxation_time", "integrator", "damage", "materials", "objects", "boundaries",
-            "output", "render"});
+            "flip_relaxation_time", "integrator", "implicit", "damage", "materials", "objects",
+            "boundaries", "output", "render"});
   long long dim = r.integer(doc, "", "dim");
   r.check(dim == 2 || dim == 3, "dim", "must be 2 or 3, got " + std::to_string(dim));
   s.dim = r.dim = int(dim);
@@ -401,11 +427,15 @@ Scene parse_scene(const json& doc, const std::string& file) {
                 std::string(transfers[int(s.transfer)]) + "\")");
     out["flip_relaxation_time"] = s.flip_relaxation_time;
   }
-  if (r.choice(doc, "", "integrator", {"explicit", "implicit"}, 0) == 1)
-    r.fail("integrator", "\"implicit\": not implemented yet");
-  out["integrator"] = "explicit";
+  s.integrator = Integrator(r.choice(doc, "", "integrator", {"explicit", "implicit"}, 0));
+  out["integrator"] = s.integrator == Integrator::Explicit ? "explicit" : "implicit";
+  out["implicit"] = parse_implicit(r, doc, &s);
   out["materials"] = parse_materials(r, doc, &s);
   out["damage"] = parse_damage(r, doc, &s);  // after the materials: its default depends on them
+  if (s.integrator == Integrator::Implicit && s.damage.split_fields)
+    r.fail("damage.split_fields",
+           "crack fields are not supported by the implicit integrator: remove the key or use "
+           "\"integrator\": \"explicit\"");
   out["objects"] = parse_objects(r, doc, &s);
   out["boundaries"] = parse_boundaries(r, doc, &s);
   out["output"] = parse_output(r, doc, &s);

@@ -122,6 +122,8 @@ struct Scene {
   double max_dt = 1e-3;
   Vec3d gravity = Vec3d::Zero();
   Transfer transfer = Transfer::Apic;
+  Integrator integrator = Integrator::Explicit;
+  NewtonSettings newton;  // scene key `implicit`
   double flip_ratio = 0.95;
   // > 0: FLIP's per-step ratio is exp(-dt / flip_relaxation_time) instead of flip_ratio, so
   // particle velocities relax to the grid's at a rate that does not depend on the step.

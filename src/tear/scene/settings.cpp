@@ -12,6 +12,8 @@ MpmSettings mpm_settings(const Scene& scene) {
   s.max_dt = scene.max_dt;
   s.gravity = scene.gravity;
   s.transfer = scene.transfer;
+  s.integrator = scene.integrator;
+  s.newton = scene.newton;
   s.flip_ratio = scene.flip_ratio;
   s.flip_relaxation_time = scene.flip_relaxation_time;
   s.walls = scene.walls;

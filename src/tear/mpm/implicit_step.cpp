@@ -1,0 +1,326 @@
+// The implicit integrator: backward Euler as the minimisation of the incremental potential over
+// the grid velocities (mpm/implicit_step.h).
+#include "tear/mpm/implicit_step.h"
+
+#include "tear/damage/driving_force.h"
+#include "tear/damage/phase_field.h"
+#include "tear/exec/parallel.h"
+#include "tear/exec/phase_timer.h"
+#include "tear/grid/block_window.h"
+#include "tear/mpm/phases.h"
+#include "tear/particles/records.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace tear {
+
+template <int Dim>
+IncrementalPotential<Dim>::IncrementalPotential(const MpmSettings& settings,
+                                                const MpmState<Dim>& state, Real dt)
+    : settings_(settings), state_(state), dt_(dt) {
+  const SparseGrid<Dim>& grid = state.grid;
+  for (size_t g = 0; g < state.groups.size(); ++g) {
+    group_offset_.push_back(refs_.size());
+    for (size_t i = 0; i < state.groups[g].size(); ++i) refs_.push_back({uint32_t(g), uint32_t(i)});
+  }
+  const size_t np = refs_.size();
+  nodes_.resize(np);
+  grads_.resize(np);
+  F_.resize(np);
+  degradation_.resize(np);
+  parallel_for(np, [&](size_t k) { degradation_[k] = degradation_of(refs_[k]); });
+  // Stencils: each home block's window, its nodes' storage indices, the particles' weights.
+  const Real inv_d = BSpline1D<kTransferOrder>::kInvD / Real(settings.dx * settings.dx);
+  for (size_t g = 0; g < state.groups.size(); ++g) {
+    const Particles<Dim>& p = state.groups[g];
+    const ParticleBins<Dim>& bins = grid.bins(g);
+    parallel_for(bins.home_blocks.size(), [&](size_t b) {
+      const auto& h = bins.home_blocks[b];
+      const BlockWindow<Dim, kTransferOrder> window(grid, h, p.x, bins.order.data());
+      thread_local std::vector<int> storage;
+      storage.assign(BlockWindow<Dim, kTransferOrder>::kSize, -1);
+      window.for_each_node([&](int wn, int n) { storage[size_t(wn)] = n; });
+      for (uint32_t k = h.begin; k < h.end; ++k) {
+        const uint32_t i = bins.order[k];
+        const size_t flat = group_offset_[g] + i;
+        const Mat<Dim> Ft = p.F[i].transpose();
+        int s = 0;
+        WindowStencil<Dim, kTransferOrder>(window, p.x[i]).visit(
+            [&](int wn, Real w, const Vec<Dim>& rel) {
+              nodes_[flat][size_t(s)] = storage[size_t(wn)];
+              grads_[flat][size_t(s)] = Ft * (w * inv_d * rel);
+              ++s;
+            });
+      }
+    });
+  }
+  // Masses, v*, and the constraints of the walls and colliders at the end of the step.
+  const size_t nn = grid.num_active_nodes();
+  mass_.assign(nn, 0);
+  v_star_.assign(nn * Dim, 0);
+  free_.assign(nn, Mat<Dim>::Identity());
+  // At the step's start time, as grid_update applied them to v*.
+  const NodeContacts<Dim> contacts(grid, settings.walls, settings.colliders, state.time);
+  parallel_for(nn, [&](size_t node) {
+    mass_[node] = grid.mass[node];
+    if (!(mass_[node] > 0)) {
+      free_[node].setZero();
+      return;
+    }
+    const Vec<Dim>& v = grid.velocity[node];
+    for (int a = 0; a < Dim; ++a) v_star_[node * Dim + a] = v[a];
+    Mat<Dim> fixed = Mat<Dim>::Zero();  // sum of e e^T over the fixed directions
+    contacts.visit(int(node), [&](const Vec<Dim>& n, const Vec<Dim>& v_wall, ContactType type,
+                                  Real) {
+      if (type == ContactType::Sticky) {
+        fixed.setIdentity();
+        return;
+      }
+      if (type == ContactType::None) return;
+      if (type == ContactType::Separate && (v - v_wall).dot(n) > 0) return;  // leaving
+      Vec<Dim> e = n - fixed * n;  // Gram-Schmidt against the directions fixed already
+      if (e.norm() < Real(1e-6)) return;
+      e.normalize();
+      fixed += e * e.transpose();
+    });
+    free_[node] = Mat<Dim>::Identity() - fixed;
+  });
+}
+
+template <int Dim>
+Real IncrementalPotential<Dim>::degradation_of(const ParticleRef& r) const {
+  const Particles<Dim>& p = state_.groups[r.group];
+  const uint16_t mat = p.material[r.index];
+  if (settings_.damage.solver == DamageSolver::None || mat >= settings_.material_damage.size())
+    return 1;
+  const DamageParams& dp = settings_.material_damage[mat];
+  return dp.enabled ? degradation(p.damage[r.index], Real(dp.residual)) : Real(1);
+}
+
+template <int Dim>
+void IncrementalPotential<Dim>::deformations(const std::vector<Real>& v) {
+  parallel_for(refs_.size(), [&](size_t k) {
+    const ParticleRef& r = refs_[k];
+    Mat<Dim> B = Mat<Dim>::Zero();
+    for (int s = 0; s < kStencil; ++s) {
+      const Real* vn = &v[size_t(nodes_[k][size_t(s)]) * Dim];
+      B += Eigen::Map<const Vec<Dim>>(vn) * grads_[k][size_t(s)].transpose();
+    }
+    F_[k] = state_.groups[r.group].F[r.index] + dt_ * B;
+  });
+}
+
+template <int Dim>
+template <class Fn>
+void IncrementalPotential<Dim>::scatter(Fn&& fn) const {
+  // One colour of home blocks at a time: blocks of one colour reach disjoint nodes, so the
+  // sums at a node are made in the same order for any thread count.
+  scatter_home_blocks(state_, [&](size_t g, const typename SparseGrid<Dim>::HomeBlock& h) {
+    const uint32_t* order = state_.grid.bins(g).order.data();
+    for (uint32_t k = h.begin; k < h.end; ++k) fn(group_offset_[g] + order[k]);
+  });
+}
+
+template <int Dim>
+double IncrementalPotential<Dim>::energy(const std::vector<Real>& v) {
+  deformations(v);
+  const double kinetic = deterministic_sum<double>(mass_.size(), [&](size_t node) {
+    if (!(mass_[node] > 0)) return 0.0;
+    double s = 0;
+    for (int a = 0; a < Dim; ++a) {
+      const double d = double(v[node * Dim + a]) - double(v_star_[node * Dim + a]);
+      s += d * d;
+    }
+    return 0.5 * double(mass_[node]) * s;
+  });
+  const double elastic = deterministic_sum<double>(refs_.size(), [&](size_t k) {
+    const Particles<Dim>& p = state_.groups[refs_[k].group];
+    const size_t i = refs_[k].index;
+    const MaterialParams& m = settings_.materials[p.material[i]];
+    return double(p.vol0[i]) * double(energy_density<Dim>(m, F_[k], p.fiber[i], degradation_[k]));
+  });
+  return kinetic + elastic;
+}
+
+template <int Dim>
+void IncrementalPotential<Dim>::gradient(const std::vector<Real>& v, std::vector<Real>& g) {
+  deformations(v);
+  parallel_for(mass_.size(), [&](size_t node) {
+    for (int a = 0; a < Dim; ++a)
+      g[node * Dim + a] = mass_[node] * (v[node * Dim + a] - v_star_[node * Dim + a]);
+  });
+  scatter([&](size_t k) {
+    const Particles<Dim>& p = state_.groups[refs_[k].group];
+    const size_t i = refs_[k].index;
+    const MaterialParams& m = settings_.materials[p.material[i]];
+    const Mat<Dim> scaled = (dt_ * p.vol0[i]) * first_piola<Dim>(m, F_[k], p.fiber[i], degradation_[k]);
+    for (int s = 0; s < kStencil; ++s) {
+      Eigen::Map<Vec<Dim>> gn(&g[size_t(nodes_[k][size_t(s)]) * Dim]);
+      gn += scaled * grads_[k][size_t(s)];
+    }
+  });
+  project(g);
+}
+
+template <int Dim>
+void IncrementalPotential<Dim>::project(std::vector<Real>& u) const {
+  parallel_for(mass_.size(), [&](size_t node) {
+    Eigen::Map<Vec<Dim>> un(&u[node * Dim]);
+    un = free_[node] * un;
+  });
+}
+
+template <int Dim>
+double IncrementalPotential<Dim>::residual(const std::vector<Real>& g) const {
+  const Real worst = parallel_max<Real>(
+      mass_.size(),
+      [&](size_t node) {
+        if (!(mass_[node] > 0)) return Real(0);
+        return Eigen::Map<const Vec<Dim>>(&g[node * Dim]).norm() / mass_[node];
+      },
+      Real(0));
+  return double(worst) * double(dt_) / settings_.dx;
+}
+
+template <int Dim>
+void IncrementalPotential<Dim>::prepare_hessian(const std::vector<Real>& v) {
+  deformations(v);
+  hessian_.resize(refs_.size());
+  parallel_for(refs_.size(), [&](size_t k) {
+    const Particles<Dim>& p = state_.groups[refs_[k].group];
+    const size_t i = refs_[k].index;
+    const MaterialParams& m = settings_.materials[p.material[i]];
+    hessian_[k] =
+        p.vol0[i] * projected_stress_derivative<Dim>(m, F_[k], p.fiber[i], degradation_[k]);
+  });
+  // The Jacobi diagonal: m_i + dt^2 sum_p u^T A_p(a) u for each component a of node i, where
+  // u = F^T grad w and A_p(a) the block of the particle's matrix that e_a u^T meets.
+  diag_.assign(mass_.size() * Dim, 0);
+  const Real dt2 = dt_ * dt_;
+  scatter([&](size_t k) {
+    const StressDerivative<Dim>& A = hessian_[k];
+    for (int s = 0; s < kStencil; ++s) {
+      const Vec<Dim>& u = grads_[k][size_t(s)];
+      Real* dn = &diag_[size_t(nodes_[k][size_t(s)]) * Dim];
+      for (int a = 0; a < Dim; ++a) {
+        Real sum = 0;
+        for (int c = 0; c < Dim; ++c)
+          for (int e = 0; e < Dim; ++e) sum += u[c] * u[e] * A(a + Dim * c, a + Dim * e);
+        dn[a] += dt2 * sum;
+      }
+    }
+  });
+  parallel_for(mass_.size(), [&](size_t node) {
+    for (int a = 0; a < Dim; ++a) diag_[node * Dim + a] += mass_[node];
+  });
+}
+
+template <int Dim>
+void IncrementalPotential<Dim>::apply_hessian(const std::vector<Real>& d,
+                                              std::vector<Real>& y) const {
+  std::vector<Real>& dp = scratch_;
+  dp = d;
+  project(dp);
+  parallel_for(mass_.size(), [&](size_t node) {
+    for (int a = 0; a < Dim; ++a) y[node * Dim + a] = mass_[node] * dp[node * Dim + a];
+  });
+  scatter([&](size_t k) {
+    Mat<Dim> B = Mat<Dim>::Zero();
+    for (int s = 0; s < kStencil; ++s)
+      B += Eigen::Map<const Vec<Dim>>(&dp[size_t(nodes_[k][size_t(s)]) * Dim]) *
+           grads_[k][size_t(s)].transpose();
+    const Vec<Dim * Dim> dP = hessian_[k] * (dt_ * B).reshaped();
+    const Mat<Dim> dPm = Eigen::Map<const Mat<Dim>>(dP.data()) * dt_;
+    for (int s = 0; s < kStencil; ++s) {
+      Eigen::Map<Vec<Dim>> yn(&y[size_t(nodes_[k][size_t(s)]) * Dim]);
+      yn += dPm * grads_[k][size_t(s)];
+    }
+  });
+  project(y);
+}
+
+template <int Dim>
+void IncrementalPotential<Dim>::precondition(const std::vector<Real>& r,
+                                             std::vector<Real>& z) const {
+  parallel_for(mass_.size(), [&](size_t node) {
+    Vec<Dim> zn;
+    for (int a = 0; a < Dim; ++a) {
+      const Real dd = diag_[node * Dim + a];
+      zn[a] = dd > 0 ? r[node * Dim + a] / dd : Real(0);
+    }
+    Eigen::Map<Vec<Dim>> zm(&z[node * Dim]);
+    zm = free_[node] * zn;
+  });
+}
+
+namespace {
+
+template <int Dim>
+void migrate(MpmState<Dim>* state, Domain& domain) {
+  for (Particles<Dim>& p : state->groups) {
+    RegistryRecords records(&p, "x");
+    domain.migrate(&records);
+  }
+}
+
+}  // namespace
+
+template <int Dim>
+void implicit_step(const MpmSettings& settings, MpmState<Dim>* state, double dt, StepRecord* record,
+                   Domain& domain) {
+  if (settings.damage.split_fields)
+    throw std::invalid_argument("the implicit integrator does not support crack fields");
+  PhaseTimes& t = record->times;
+  {
+    PhaseTimer timer(&t.sort);
+    sort_particles(state);
+  }
+  if (has_stress_phase(settings)) {
+    PhaseTimer timer(&t.stress);
+    update_stress(settings, state);
+  }
+  if (settings.damage.solver != DamageSolver::None) {
+    PhaseTimer timer(&t.damage);
+    update_damage(&state->groups, &state->grid, settings.damage, settings.material_damage, dt,
+                  &record->damage, domain);
+  }
+  {
+    PhaseTimer timer(&t.p2g);
+    p2g(settings, state, Real(0));  // mass and momentum; the stress enters the solve
+  }
+  {
+    PhaseTimer timer(&t.grid);
+    grid_update(settings, state, Real(dt));  // v*: gravity, walls and colliders
+    IncrementalPotential<Dim> potential(settings, *state, Real(dt));
+    std::vector<Real> v = potential.initial();
+    const NewtonResult r = newton_minimize(potential, &v, settings.newton);
+    SparseGrid<Dim>& grid = state->grid;
+    parallel_for(grid.num_active_nodes(), [&](size_t node) {
+      if (grid.mass[node] > 0) grid.velocity[node] = Eigen::Map<const Vec<Dim>>(&v[node * Dim]);
+    });
+    apply_colliders<Dim>(grid, settings.walls, settings.colliders, state->time);
+    ImplicitSolveStats& s = record->implicit;
+    ++s.solves;
+    s.newton_iterations += r.iterations;
+    s.newton_iterations_max = std::max(s.newton_iterations_max, r.iterations);
+    s.cg_iterations += r.cg_iterations;
+    s.residual_max = std::max(s.residual_max, r.residual);
+    if (!r.converged) ++s.unconverged;
+  }
+  {
+    PhaseTimer timer(&t.g2p);
+    g2p(settings, state, Real(dt));
+    project_plastic(settings, state);
+  }
+  migrate(state, domain);
+  state->time += dt;
+  ++state->steps;
+}
+
+template class IncrementalPotential<2>;
+template class IncrementalPotential<3>;
+template void implicit_step<2>(const MpmSettings&, MpmState<2>*, double, StepRecord*, Domain&);
+template void implicit_step<3>(const MpmSettings&, MpmState<3>*, double, StepRecord*, Domain&);
+
+}  // namespace tear

@@ -1,0 +1,82 @@
+// mpm/: the implicit (backward Euler) integrator beside the explicit one: the same phases,
+// with the grid update's forces replaced by the minimisation of the incremental potential over
+// the grid velocities (Gast et al. 2015), by Newton's method (solvers/newton.h).
+#pragma once
+
+#include "tear/exec/domain.h"
+#include "tear/mpm/explicit_step.h"
+#include "tear/mpm/settings.h"
+#include "tear/mpm/state.h"
+#include "tear/solvers/newton.h"
+
+#include <array>
+#include <vector>
+
+namespace tear {
+
+// One backward Euler step of size dt from state->time to state->time + dt:
+//   sort, stress and damage (as the explicit step), P2G of mass and momentum without the stress,
+//   v* = momentum / mass + dt g with walls and colliders, then the grid velocities v minimise
+//     E(v) = sum_i m_i/2 |v_i - v*_i|^2 + sum_p V_p Psi(F_p(v)),
+//     F_p(v) = (I + dt sum_i v_i grad w_ip^T) F_p,  grad w_ip = D^-1 w_ip (x_i - x_p) (MLS),
+//   whose gradient is the explicit step's momentum balance with the stress at the end of the
+//   step; colliders and walls hold their nodes' constrained components (sticky: all, slip: the
+//   normal one, separate: the normal one where the node approaches) at v*'s; then colliders
+//   again (friction), G2P and the plastic projection. Crack fields (damage.split_fields) are not
+//   supported (the scene refuses them). One process only: `domain` must be local.
+template <int Dim>
+void implicit_step(const MpmSettings& settings, MpmState<Dim>* state, double dt, StepRecord* record,
+                   Domain& domain);
+
+// The incremental potential of one step over the grid velocities (flattened: Dim entries per
+// grid node, nodes in storage order), as solvers/newton.h's problem. Built after P2G and the
+// grid update of the step (grid masses and v* in state.grid.velocity); holds references to
+// `state`. Exposed for tests.
+template <int Dim>
+class IncrementalPotential {
+ public:
+  IncrementalPotential(const MpmSettings& settings, const MpmState<Dim>& state, Real dt);
+
+  // v*: the starting point, which satisfies the constraints.
+  const std::vector<Real>& initial() const { return v_star_; }
+
+  double energy(const std::vector<Real>& v);
+  void gradient(const std::vector<Real>& v, std::vector<Real>& g);
+  // max over nodes of |g_i| / m_i (a velocity error) over dx / dt: Newton's stopping measure.
+  double residual(const std::vector<Real>& g) const;
+  void prepare_hessian(const std::vector<Real>& v);
+  void apply_hessian(const std::vector<Real>& d, std::vector<Real>& y) const;
+  void precondition(const std::vector<Real>& r, std::vector<Real>& z) const;
+  bool active(size_t i) const { return mass_[i / Dim] > 0; }
+
+  // Removes the constrained components (and those of nodes without mass) of a velocity-sized
+  // vector.
+  void project(std::vector<Real>& u) const;
+
+ private:
+  static constexpr int kStencil = Dim == 2 ? 9 : 27;
+  struct ParticleRef {
+    uint32_t group, index;
+  };
+  // F_p(v) for every particle.
+  void deformations(const std::vector<Real>& v);
+  template <class Fn>
+  void scatter(Fn&& fn) const;  // fn(flat particle, add(node, vector)) in a deterministic order
+  Real degradation_of(const ParticleRef& r) const;
+
+  const MpmSettings& settings_;
+  const MpmState<Dim>& state_;
+  Real dt_;
+  std::vector<size_t> group_offset_;
+  std::vector<ParticleRef> refs_;
+  std::vector<Real> degradation_;
+  std::vector<std::array<int, kStencil>> nodes_;  // stencil nodes of each particle
+  std::vector<std::array<Vec<Dim>, kStencil>> grads_;  // F^T grad w for each
+  std::vector<Mat<Dim>> F_;  // F_p(v) of the last evaluation
+  std::vector<StressDerivative<Dim>> hessian_;  // projected V0 dP/dF of each particle
+  std::vector<Real> mass_, v_star_, diag_;
+  std::vector<Mat<Dim>> free_;  // per node: projection onto the unconstrained directions
+  mutable std::vector<Real> scratch_;
+};
+
+}  // namespace tear
