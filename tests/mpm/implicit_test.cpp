@@ -203,7 +203,9 @@ void expect_newton_converges(double random_strain, bool expect_quadratic) {
           << "Dim " << Dim << " step " << k << ": " << r.residuals[k] << " -> " << r.residuals[k + 1];
       ++quadratic;
     }
-  if (expect_quadratic) EXPECT_GE(quadratic, 1) << "Dim " << Dim;
+  if (expect_quadratic) {
+    EXPECT_GE(quadratic, 1) << "Dim " << Dim;
+  }
   // Nodes inside the sticky box move with it.
   const SparseGrid<Dim>& grid = sim.grid();
   int held = 0;

@@ -24,19 +24,11 @@ std::vector<NodeFieldView> momentum_fields(SparseGrid<Dim>* g) {
   return fields;
 }
 
-template <int Dim>
-void migrate_particles(MpmState<Dim>* state, Domain& domain) {
-  for (Particles<Dim>& p : state->groups) {
-    RegistryRecords records(&p, "x");
-    domain.migrate(&records);
-  }
-}
-
 }  // namespace
 
 template <int Dim>
-void explicit_step(const MpmSettings& settings, MpmState<Dim>* state, double dt, StepRecord* record,
-                   Domain& domain) {
+void begin_step(const MpmSettings& settings, MpmState<Dim>* state, double dt, StepRecord* record,
+                Domain& domain) {
   PhaseTimes& t = record->times;
   {
     PhaseTimer timer(&t.sort);
@@ -51,6 +43,23 @@ void explicit_step(const MpmSettings& settings, MpmState<Dim>* state, double dt,
     update_damage(&state->groups, &state->grid, settings.damage, settings.material_damage, dt,
                   &record->damage, domain);
   }
+}
+
+template <int Dim>
+void end_step(MpmState<Dim>* state, double dt, Domain& domain) {
+  for (Particles<Dim>& p : state->groups) {
+    RegistryRecords records(&p, "x");
+    domain.migrate(&records);
+  }
+  state->time += dt;
+  ++state->steps;
+}
+
+template <int Dim>
+void explicit_step(const MpmSettings& settings, MpmState<Dim>* state, double dt, StepRecord* record,
+                   Domain& domain) {
+  PhaseTimes& t = record->times;
+  begin_step(settings, state, dt, record, domain);
   if (settings.damage.split_fields) {
     PhaseTimer timer(&t.crack_fields);
     partition_crack_fields(settings, state, domain);
@@ -70,9 +79,7 @@ void explicit_step(const MpmSettings& settings, MpmState<Dim>* state, double dt,
     g2p(settings, state, Real(dt));
     project_plastic(settings, state);
   }
-  migrate_particles(state, domain);
-  state->time += dt;
-  ++state->steps;
+  end_step(state, dt, domain);
 }
 
 template <int Dim>
@@ -84,6 +91,10 @@ void damage_only_step(const MpmSettings& settings, MpmState<Dim>* state, double 
                 &record->damage, domain);
 }
 
+template void begin_step<2>(const MpmSettings&, MpmState<2>*, double, StepRecord*, Domain&);
+template void begin_step<3>(const MpmSettings&, MpmState<3>*, double, StepRecord*, Domain&);
+template void end_step<2>(MpmState<2>*, double, Domain&);
+template void end_step<3>(MpmState<3>*, double, Domain&);
 template void explicit_step<2>(const MpmSettings&, MpmState<2>*, double, StepRecord*, Domain&);
 template void explicit_step<3>(const MpmSettings&, MpmState<3>*, double, StepRecord*, Domain&);
 template void damage_only_step<2>(const MpmSettings&, MpmState<2>*, double, StepRecord*, Domain&);

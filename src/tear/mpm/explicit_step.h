@@ -32,6 +32,16 @@ struct StepRecord {
   ImplicitSolveStats implicit;
 };
 
+// What every integrator's step begins with: sort, the constitutive phase (when damage needs
+// it) and the damage update, each timed.
+template <int Dim>
+void begin_step(const MpmSettings& settings, MpmState<Dim>* state, double dt, StepRecord* record,
+                Domain& domain);
+
+// And ends with: particles migrate between ranks, time and step counter advance.
+template <int Dim>
+void end_step(MpmState<Dim>* state, double dt, Domain& domain);
+
 // One explicit step of size dt from state->time to state->time + dt. `domain` adds the halo
 // exchange and migration of a multi-process run (a LocalDomain: nothing).
 template <int Dim>

@@ -3,12 +3,10 @@
 #include "tear/mpm/implicit_step.h"
 
 #include "tear/damage/driving_force.h"
-#include "tear/damage/phase_field.h"
 #include "tear/exec/parallel.h"
 #include "tear/exec/phase_timer.h"
 #include "tear/grid/block_window.h"
 #include "tear/mpm/phases.h"
-#include "tear/particles/records.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -254,37 +252,13 @@ void IncrementalPotential<Dim>::precondition(const std::vector<Real>& r,
   });
 }
 
-namespace {
-
-template <int Dim>
-void migrate(MpmState<Dim>* state, Domain& domain) {
-  for (Particles<Dim>& p : state->groups) {
-    RegistryRecords records(&p, "x");
-    domain.migrate(&records);
-  }
-}
-
-}  // namespace
-
 template <int Dim>
 void implicit_step(const MpmSettings& settings, MpmState<Dim>* state, double dt, StepRecord* record,
                    Domain& domain) {
   if (settings.damage.split_fields)
     throw std::invalid_argument("the implicit integrator does not support crack fields");
   PhaseTimes& t = record->times;
-  {
-    PhaseTimer timer(&t.sort);
-    sort_particles(state);
-  }
-  if (has_stress_phase(settings)) {
-    PhaseTimer timer(&t.stress);
-    update_stress(settings, state);
-  }
-  if (settings.damage.solver != DamageSolver::None) {
-    PhaseTimer timer(&t.damage);
-    update_damage(&state->groups, &state->grid, settings.damage, settings.material_damage, dt,
-                  &record->damage, domain);
-  }
+  begin_step(settings, state, dt, record, domain);
   {
     PhaseTimer timer(&t.p2g);
     p2g(settings, state, Real(0));  // mass and momentum; the stress enters the solve
@@ -313,9 +287,7 @@ void implicit_step(const MpmSettings& settings, MpmState<Dim>* state, double dt,
     g2p(settings, state, Real(dt));
     project_plastic(settings, state);
   }
-  migrate(state, domain);
-  state->time += dt;
-  ++state->steps;
+  end_step(state, dt, domain);
 }
 
 template class IncrementalPotential<2>;
