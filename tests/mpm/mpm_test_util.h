@@ -54,6 +54,7 @@ class MpmSim {
   void set_time(double t) { state_.time = t; }
   DamageSolveStats& damage_stats() { return record_.damage; }
   ImplicitSolveStats& implicit_stats() { return record_.implicit; }
+  InextensibilityStats& inextensibility_stats() { return record_.inextensibility; }
   MpmSettings& mutable_settings() { return settings_; }
 
   double total_mass() const { return tear::total_mass(state_); }

@@ -105,12 +105,13 @@ TEST(FieldRegistry, FrameTableHasTheDeclaredColumnsInIdOrder) {
 
 // The optional frame columns a scene may ask for (output.fields) are listed, absent until
 // enabled, and then written from their fields: driving_force from the damage update's `drive`
-// (0 where damage is not simulated), damage_laplacian from its own field (plastic_strain, which
-// plastic materials enable, is listed too).
+// (0 where damage is not simulated), damage_laplacian from its own field (plastic_strain and
+// fiber_tension, which plastic and inextensible materials enable, are listed too).
 TEST(FieldRegistry, OptionalColumnsAreWrittenOnlyWhereEnabled) {
   TestStore s = store_of(3);
   EXPECT_EQ(s.optional_columns(),
-            (std::vector<std::string>{"plastic_strain", "driving_force", "damage_laplacian"}));
+            (std::vector<std::string>{"plastic_strain", "fiber_tension", "driving_force",
+                                      "damage_laplacian"}));
   const std::vector<std::string> plain = frame_table(s, rows_by_id(s.id)).names;
   EXPECT_EQ(plain.back(), "test_only");
   EXPECT_EQ(std::count(plain.begin(), plain.end(), "driving_force"), 0);

@@ -357,7 +357,7 @@ std::vector<BrokenScene> broken_scenes() {
               "output.formats[1]: duplicate format \"ply\""),
       patched("UnknownField", R"({"output": {"fields": ["driving_force", "stress"]}})",
               "output.fields[1]: unknown field \"stress\" (expected one of: plastic_strain, "
-              "driving_force, damage_laplacian)"),
+              "fiber_tension, driving_force, damage_laplacian)"),
       patched("DuplicateField",
               R"({"output": {"fields": ["damage_laplacian", "damage_laplacian"]}})",
               "output.fields[1]: duplicate field \"damage_laplacian\""),
@@ -427,12 +427,23 @@ std::vector<BrokenScene> broken_scenes() {
       patched("ImplicitIterationsZero", R"({"implicit": {"max_iterations": 0}})",
               "implicit.max_iterations: must be in [1, 1000], got 0"),
       patched("ImplicitTypo", R"({"implicit": {"cg_tol": 0.1}})", "implicit.cg_tol"),
-      // --- recognised by SCENE_FORMAT.md, not implemented yet: refused, never ignored
-      patched("Inextensible", R"({"materials": {"jelly": {"inextensible": true}}})",
-              "materials.jelly.inextensible: true: not implemented yet"),
-      patched("InextensibilityRelaxation",
-              R"({"materials": {"jelly": {"inextensibility_relaxation": 0.5}}})",
-              "materials.jelly.inextensibility_relaxation: not implemented yet"),
+      // --- inextensibility
+      patched("RelaxationWithoutInextensible",
+              R"({"materials": {"jelly": {"inextensibility_relaxation": 1e5}}})",
+              "materials.jelly.inextensibility_relaxation: relaxes the inextensibility "
+              "constraint: set \"inextensible\": true"),
+      patched("RelaxationNegative",
+              R"({"materials": {"jelly": {"inextensible": true, "inextensibility_relaxation": -1}}})",
+              "materials.jelly.inextensibility_relaxation: must be"),
+      patched("InextensibleWithCrackFields",
+              R"({"materials": {"jelly": {"inextensible": true}}, "damage": {"split_fields": true}})",
+              "damage.split_fields: crack fields are not supported with inextensible materials "
+              "(materials.jelly is)"),
+      patched("InextensibilityToleranceOutOfRange", R"({"inextensibility": {"tolerance": 0}})",
+              "inextensibility.tolerance: must be in (0, 1), got 0"),
+      patched("InextensibilityIterationsZero", R"({"inextensibility": {"max_iterations": 0}})",
+              "inextensibility.max_iterations: must be in [1, 1e6], got 0"),
+      patched("InextensibilityTypo", R"({"inextensibility": {"tol": 0.1}})", "inextensibility.tol"),
       patched("FlowFibersWithoutSinks",
               sphere_object(R"(, "fibers": {"type": "flow", "sources": [[0.4, 0.5]]})"),
               "objects[0].fibers.sinks: required (an array of points)"),

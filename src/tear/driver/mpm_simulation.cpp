@@ -20,7 +20,7 @@ namespace {
 
 // Checkpoint format: this magic (with its version), then the header below, then each group's
 // state fields as io/field_io.h writes them.
-const std::string kCheckpointMagic = "TEARCKP6";
+const std::string kCheckpointMagic = "TEARCKP7";
 
 template <int Dim>
 class MpmSimulation final : public Simulation {
@@ -105,6 +105,13 @@ class MpmSimulation final : public Simulation {
     s.newton_residual = is.residual_max;
     s.newton_unconverged = is.unconverged;
     is = ImplicitSolveStats();
+    InextensibilityStats& xs = record_.inextensibility;
+    s.inextensibility_figures = has_inextensibility(settings_);
+    s.inextensibility_iterations = xs.cg_iterations;
+    s.inextensibility_iterations_max = xs.cg_iterations_max;
+    s.inextensibility_residual = xs.residual_max;
+    s.inextensibility_unconverged = xs.unconverged;
+    xs = InextensibilityStats();
     s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     steps_since_stats_ = 0;
     dt_min_ = std::numeric_limits<double>::infinity();
@@ -147,6 +154,12 @@ class MpmSimulation final : public Simulation {
     w.put<int64_t>(is.cg_iterations);
     w.put<double>(is.residual_max);
     w.put<int64_t>(is.unconverged);
+    const InextensibilityStats& xs = record_.inextensibility;
+    w.put<int64_t>(xs.solves);
+    w.put<int64_t>(xs.cg_iterations);
+    w.put<int32_t>(xs.cg_iterations_max);
+    w.put<double>(xs.residual_max);
+    w.put<int64_t>(xs.unconverged);
     for (const Particles<Dim>& g : state_.groups) put_fields(g, &w);
     return std::move(w.bytes());
   }
@@ -193,6 +206,12 @@ class MpmSimulation final : public Simulation {
     is.cg_iterations = long(r.get<int64_t>());
     is.residual_max = r.get<double>();
     is.unconverged = long(r.get<int64_t>());
+    InextensibilityStats xs;
+    xs.solves = long(r.get<int64_t>());
+    xs.cg_iterations = long(r.get<int64_t>());
+    xs.cg_iterations_max = r.get<int32_t>();
+    xs.residual_max = r.get<double>();
+    xs.unconverged = long(r.get<int64_t>());
     for (uint32_t g = 0; g < groups; ++g) get_fields(&r, size_t(counts[g]), &stores[g]);
     if (!r.at_end()) throw std::runtime_error("corrupt checkpoint (trailing bytes)");
     state_.groups = std::move(stores);
@@ -204,6 +223,7 @@ class MpmSimulation final : public Simulation {
     dt_max_ = dt_max;
     record_.damage = ds;
     record_.implicit = is;
+    record_.inextensibility = xs;
   }
 
   std::vector<std::pair<std::string, double>> phase_seconds() const override {
@@ -211,7 +231,7 @@ class MpmSimulation final : public Simulation {
     return {{"sort", t.sort},     {"stress", t.stress},
             {"damage", t.damage}, {"crack fields", t.crack_fields},
             {"p2g", t.p2g},       {"grid", t.grid},
-            {"g2p", t.g2p}};
+            {"inextensibility", t.inextensibility}, {"g2p", t.g2p}};
   }
 
   size_t memory_bytes() const override {

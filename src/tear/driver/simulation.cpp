@@ -33,6 +33,12 @@ nlohmann::json FrameStats::to_json() const {
     j["newton_residual"] = newton_residual;
     j["newton_unconverged"] = newton_unconverged;
   }
+  if (inextensibility_figures) {
+    j["inextensibility_iterations"] = inextensibility_iterations;
+    j["inextensibility_iterations_max"] = inextensibility_iterations_max;
+    j["inextensibility_residual"] = inextensibility_residual;
+    j["inextensibility_unconverged"] = inextensibility_unconverged;
+  }
   return j;
 }
 

@@ -43,6 +43,13 @@ struct FrameStats {
   long newton_iterations = 0, cg_iterations = 0, newton_unconverged = 0;
   int newton_iterations_max = 0;
   double newton_residual = 0;
+  // Inextensible materials only (written when inextensibility_figures): CG iterations of the
+  // projections since the previous frame summed and at most per step, the largest final
+  // residual and the steps whose solve stopped at inextensibility.max_iterations.
+  bool inextensibility_figures = false;
+  long inextensibility_iterations = 0, inextensibility_unconverged = 0;
+  int inextensibility_iterations_max = 0;
+  double inextensibility_residual = 0;
   double wall_s = 0;  // wall time since the start of the run
   nlohmann::json to_json() const;
 };

@@ -109,6 +109,27 @@ void NodeContacts<Dim>::visit(int node, Fn&& fn) const {
   }
 }
 
+// I minus the projector onto the directions of a node's velocity that its boundaries hold:
+// all for a sticky one, the normal for slip, and for separate the normal unless the node
+// (velocity v) leaves it. What an implicit solve or a velocity projection may change there.
+template <int Dim>
+Mat<Dim> free_directions(const NodeContacts<Dim>& contacts, int node, const Vec<Dim>& v) {
+  Mat<Dim> fixed = Mat<Dim>::Zero();  // sum of e e^T over the fixed directions
+  contacts.visit(node, [&](const Vec<Dim>& n, const Vec<Dim>& v_wall, ContactType type, Real) {
+    if (type == ContactType::Sticky) {
+      fixed.setIdentity();
+      return;
+    }
+    if (type == ContactType::None) return;
+    if (type == ContactType::Separate && (v - v_wall).dot(n) > 0) return;  // leaving
+    Vec<Dim> e = n - fixed * n;  // Gram-Schmidt against the directions fixed already
+    if (e.norm() < Real(1e-6)) return;
+    e.normalize();
+    fixed += e * e.transpose();
+  });
+  return Mat<Dim>::Identity() - fixed;
+}
+
 // Apply domain walls and every active collider to the grid velocities at `time` (both fields
 // of a node where the crack fields are split).
 template <int Dim>

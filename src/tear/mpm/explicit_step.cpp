@@ -73,6 +73,10 @@ void explicit_step(const MpmSettings& settings, MpmState<Dim>* state, double dt,
     PhaseTimer timer(&t.grid);
     grid_update(settings, state, Real(dt));
   }
+  if (has_inextensibility(settings)) {
+    PhaseTimer timer(&t.inextensibility);
+    enforce_inextensibility(settings, state, Real(dt), &record->inextensibility);
+  }
   domain.copy_halos(momentum_fields(&state->grid));
   {
     PhaseTimer timer(&t.g2p);

@@ -4,6 +4,7 @@
 
 #include "tear/damage/damage_settings.h"
 #include "tear/exec/domain.h"
+#include "tear/mpm/inextensibility.h"
 #include "tear/mpm/settings.h"
 #include "tear/mpm/state.h"
 
@@ -11,11 +12,10 @@ namespace tear {
 
 // Wall-clock seconds spent in each phase.
 struct PhaseTimes {
-  double sort = 0, stress = 0, damage = 0, crack_fields = 0, p2g = 0, grid = 0, g2p = 0;
+  double sort = 0, stress = 0, damage = 0, crack_fields = 0, p2g = 0, grid = 0, inextensibility = 0,
+         g2p = 0;
 };
 
-// What steps leave behind besides the state: phase times and the implicit damage solver's
-// and the implicit integrator's figures (reset by whoever reports them).
 // The implicit integrator's solves (mpm/implicit_step.h), summed over steps.
 struct ImplicitSolveStats {
   long solves = 0;
@@ -26,10 +26,14 @@ struct ImplicitSolveStats {
   long unconverged = 0;  // solves that stopped at the Newton iteration limit
 };
 
+// What steps leave behind besides the state: phase times and the figures of the implicit
+// damage solver, the implicit integrator and the inextensibility solve (reset by whoever
+// reports them).
 struct StepRecord {
   PhaseTimes times;
   DamageSolveStats damage;
   ImplicitSolveStats implicit;
+  InextensibilityStats inextensibility;
 };
 
 // What every integrator's step begins with: sort, the constitutive phase (when damage needs

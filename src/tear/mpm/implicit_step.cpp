@@ -68,21 +68,7 @@ IncrementalPotential<Dim>::IncrementalPotential(const MpmSettings& settings,
     }
     const Vec<Dim>& v = grid.velocity[node];
     for (int a = 0; a < Dim; ++a) v_star_[node * Dim + a] = v[a];
-    Mat<Dim> fixed = Mat<Dim>::Zero();  // sum of e e^T over the fixed directions
-    contacts.visit(int(node), [&](const Vec<Dim>& n, const Vec<Dim>& v_wall, ContactType type,
-                                  Real) {
-      if (type == ContactType::Sticky) {
-        fixed.setIdentity();
-        return;
-      }
-      if (type == ContactType::None) return;
-      if (type == ContactType::Separate && (v - v_wall).dot(n) > 0) return;  // leaving
-      Vec<Dim> e = n - fixed * n;  // Gram-Schmidt against the directions fixed already
-      if (e.norm() < Real(1e-6)) return;
-      e.normalize();
-      fixed += e * e.transpose();
-    });
-    free_[node] = Mat<Dim>::Identity() - fixed;
+    free_[node] = free_directions(contacts, int(node), v);
   });
 }
 
@@ -281,6 +267,10 @@ void implicit_step(const MpmSettings& settings, MpmState<Dim>* state, double dt,
     s.cg_iterations += r.cg_iterations;
     s.residual_max = std::max(s.residual_max, r.residual);
     if (!r.converged) ++s.unconverged;
+  }
+  if (has_inextensibility(settings)) {
+    PhaseTimer timer(&t.inextensibility);
+    enforce_inextensibility(settings, state, Real(dt), &record->inextensibility);
   }
   {
     PhaseTimer timer(&t.g2p);

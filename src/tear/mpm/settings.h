@@ -20,6 +20,19 @@ enum class Transfer { Apic, Pic, Flip };
 // incremental potential (mpm/implicit_step.h).
 enum class Integrator { Explicit, Implicit };
 
+// Directional inextensibility of a material's fibers (mpm/inextensibility.h).
+struct InextensibleParams {
+  bool enabled = false;
+  // > 0: the relaxed constraint, a penalty with this fiber stiffness (Pa); 0: the hard one.
+  double relaxation = 0;
+};
+
+// The inextensibility solve: CG on the multipliers until |residual| <= tolerance |B v~ - r|.
+struct InextensibilitySettings {
+  double tolerance = 1e-6;
+  int max_iterations = 2000;
+};
+
 struct MpmSettings {
   // Grid: nodes at domain_min + i dx; particles are kept one cell inside the domain.
   double dx = 0.01;
@@ -45,6 +58,10 @@ struct MpmSettings {
   std::vector<MaterialParams> materials;
   std::vector<DamageParams> material_damage;
   std::vector<PlasticParams> material_plasticity;
+  // Inextensibility of each material (may be empty when no material is inextensible) and its
+  // solve.
+  std::vector<InextensibleParams> material_inextensibility;
+  InextensibilitySettings inextensibility;
   DamageSettings damage;
 };
 

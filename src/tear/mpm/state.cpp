@@ -18,6 +18,9 @@ MpmState<Dim> make_mpm_state(const MpmSettings& settings, std::vector<Particles<
     if (m.surface == YieldSurface::DruckerPrager && m.volume_correction)
       for (Particles<Dim>& g : state.groups) g.enable("plastic_volume");
   }
+  for (const InextensibleParams& m : settings.material_inextensibility)
+    if (m.enabled)
+      for (Particles<Dim>& g : state.groups) g.enable("fiber_tension");
   state.grid.setup(settings.domain_min, settings.domain_max, settings.dx);
   sort_particles(&state);
   return state;

@@ -51,6 +51,10 @@ struct Particles : FieldRegistry {
   Field<Real> plastic_strain{
       this, optional_state_field("plastic_strain", {{"plastic_strain"}, ColumnType::Float32}), 0};
   Field<Real> plastic_volume{this, optional_state_field("plastic_volume"), 0};
+  // The tension of the inextensibility constraint along the fiber (Pa), only where some
+  // material is inextensible (mpm/inextensibility.h): a frame column.
+  Field<Real> fiber_tension{
+      this, optional_state_field("fiber_tension", {{"fiber_tension"}, ColumnType::Float32}), 0};
   // Home block slot at the last reorder (-1: never reordered); the reorder decision, and so the
   // summation order, depends on it, so it is part of the restartable state.
   Field<int32_t> reorder_slot{this, state_field("reorder_slot"), -1};

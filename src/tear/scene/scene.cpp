@@ -104,6 +104,23 @@ json parse_implicit(const Reader& r, const json& doc, Scene* s) {
           {"cg_max_iterations", n.cg_max_iterations}};
 }
 
+// The inextensibility projection's CG solve (mpm/inextensibility.h); stored always, used when a
+// material is inextensible.
+json parse_inextensibility(const Reader& r, const json& doc, Scene* s) {
+  static const json kEmpty = json::object();
+  const json* d = r.find(doc, "inextensibility");
+  if (!d) d = &kEmpty;
+  r.object(*d, "inextensibility", {"tolerance", "max_iterations"});
+  InextensibilitySettings& x = s->inextensibility;
+  x.tolerance = r.number(*d, "inextensibility", "tolerance", x.tolerance);
+  r.check(x.tolerance > 0 && x.tolerance < 1, "inextensibility.tolerance",
+          "must be in (0, 1), got " + json(x.tolerance).dump());
+  x.max_iterations = int(r.integer(*d, "inextensibility", "max_iterations", x.max_iterations));
+  r.check(x.max_iterations >= 1 && x.max_iterations <= 1000000, "inextensibility.max_iterations",
+          "must be in [1, 1e6], got " + std::to_string(x.max_iterations));
+  return {{"tolerance", x.tolerance}, {"max_iterations", x.max_iterations}};
+}
+
 json parse_damage(const Reader& r, const json& doc, Scene* s) {
   static const json kEmpty = json::object();
   const json* d = r.find(doc, "damage");
@@ -387,7 +404,7 @@ Scene parse_scene(const json& doc, const std::string& file) {
   if (!doc.is_object()) r.fail("(root)", "must be an object, got " + type_desc(doc));
   r.object(doc, "",
            {"name", "description", "dim", "seed", "grid", "time", "gravity", "transfer", "flip_ratio",
-            "flip_relaxation_time", "integrator", "implicit", "damage", "materials", "objects",
+            "flip_relaxation_time", "integrator", "implicit", "inextensibility", "damage", "materials", "objects",
             "boundaries", "output", "render"});
   long long dim = r.integer(doc, "", "dim");
   r.check(dim == 2 || dim == 3, "dim", "must be 2 or 3, got " + std::to_string(dim));
@@ -430,12 +447,18 @@ Scene parse_scene(const json& doc, const std::string& file) {
   s.integrator = Integrator(r.choice(doc, "", "integrator", {"explicit", "implicit"}, 0));
   out["integrator"] = s.integrator == Integrator::Explicit ? "explicit" : "implicit";
   out["implicit"] = parse_implicit(r, doc, &s);
+  out["inextensibility"] = parse_inextensibility(r, doc, &s);
   out["materials"] = parse_materials(r, doc, &s);
   out["damage"] = parse_damage(r, doc, &s);  // after the materials: its default depends on them
   if (s.integrator == Integrator::Implicit && s.damage.split_fields)
     r.fail("damage.split_fields",
            "crack fields are not supported by the implicit integrator: remove the key or use "
            "\"integrator\": \"explicit\"");
+  for (const MaterialSpec& m : s.materials)
+    if (m.inextensibility.enabled && s.damage.split_fields)
+      r.fail("damage.split_fields",
+             "crack fields are not supported with inextensible materials (materials." + m.name +
+                 " is): remove the key");
   out["objects"] = parse_objects(r, doc, &s);
   out["boundaries"] = parse_boundaries(r, doc, &s);
   out["output"] = parse_output(r, doc, &s);

@@ -54,7 +54,7 @@ struct MaterialSpec {
   Real fiber_scale[2] = {0, 0};
   DamageParams damage;
   PlasticParams plasticity;  // YieldSurface::None: elastic
-  bool inextensible = false;  // only false is accepted for now
+  InextensibleParams inextensibility;  // keys inextensible, inextensibility_relaxation
 };
 
 // The points of a "particles" object, read from its PLY file: positions, and whatever else the
@@ -124,6 +124,7 @@ struct Scene {
   Transfer transfer = Transfer::Apic;
   Integrator integrator = Integrator::Explicit;
   NewtonSettings newton;  // scene key `implicit`
+  InextensibilitySettings inextensibility;  // scene key `inextensibility`
   double flip_ratio = 0.95;
   // > 0: FLIP's per-step ratio is exp(-dt / flip_relaxation_time) instead of flip_ratio, so
   // particle velocities relax to the grid's at a rate that does not depend on the step.

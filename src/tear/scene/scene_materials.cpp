@@ -159,11 +159,16 @@ MaterialSpec parse_material(const Reader& r, const std::string& name, const json
 
   json damage = parse_damage_spec(r, m, path, &spec.damage);
   json plasticity = parse_plasticity(r, m, path, Real(E), Real(nu), &spec.plasticity);
-  spec.inextensible = r.boolean(m, path, "inextensible", false);
-  r.check(!spec.inextensible, key_path(path, "inextensible"), "true: not implemented yet");
-  if (r.find(m, "inextensibility_relaxation"))
-    r.fail(key_path(path, "inextensibility_relaxation"),
-           "not implemented yet (inextensibility is not supported)");
+  InextensibleParams& inx = spec.inextensibility;
+  inx.enabled = r.boolean(m, path, "inextensible", false);
+  json relaxation = nullptr;
+  if (r.find(m, "inextensibility_relaxation")) {
+    const std::string rp = key_path(path, "inextensibility_relaxation");
+    inx.relaxation = r.number(m, path, "inextensibility_relaxation");
+    r.positive(inx.relaxation, rp);
+    r.check(inx.enabled, rp, "relaxes the inextensibility constraint: set \"inextensible\": true");
+    relaxation = inx.relaxation;
+  }
 
   json fsj = json::array();
   for (int i = 0; i < nfs; ++i) fsj.push_back(fs[i]);
@@ -171,7 +176,8 @@ MaterialSpec parse_material(const Reader& r, const std::string& name, const json
           {"rho", rho},         {"fiber_scale", fsj},
           {"lambda_convention", convention == 1 ? "paper" : "small_strain"},
           {"damage", damage},
-          {"plasticity", plasticity}, {"inextensible", false}};
+          {"plasticity", plasticity}, {"inextensible", inx.enabled},
+          {"inextensibility_relaxation", relaxation}};
   return spec;
 }
 

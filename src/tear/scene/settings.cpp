@@ -14,6 +14,7 @@ MpmSettings mpm_settings(const Scene& scene) {
   s.transfer = scene.transfer;
   s.integrator = scene.integrator;
   s.newton = scene.newton;
+  s.inextensibility = scene.inextensibility;
   s.flip_ratio = scene.flip_ratio;
   s.flip_relaxation_time = scene.flip_relaxation_time;
   s.walls = scene.walls;
@@ -27,6 +28,7 @@ MpmSettings mpm_settings(const Scene& scene) {
     if (scene.damage.solver == DamageSolver::None) d.enabled = false;
     s.material_damage.push_back(d);
     s.material_plasticity.push_back(m.plasticity);
+    s.material_inextensibility.push_back(m.inextensibility);
   }
   return s;
 }
