@@ -111,7 +111,7 @@ TEST(Inextensibility, RowsMeasureTheFiberStretchRateOfAffineMotions3D) {
 // <B v, mu> = <v, B^T mu> for random v and mu; the projection leaves the constraint below its
 // tolerance and, without boundaries, the grid's linear and angular momentum unchanged.
 template <int Dim>
-void expect_projection_keeps_momentum() {
+void expect_projection_keeps_momentum(InextensibilityPreconditioner pc) {
   MpmSim<Dim> sim = fibered_block<Dim>(Real(0.5));
   const double dt = 1e-3;
   prepare_grid(sim, dt);
@@ -150,11 +150,13 @@ void expect_projection_keeps_momentum() {
   const double before = fc.strain_error(vel);
   InextensibilitySettings solve;
   solve.tolerance = 1e-6;
+  solve.preconditioner = pc;
   const PcgResult r = fc.project(&vel, solve);
   const auto [p1, l1] = momenta(vel);
   const double after = fc.strain_error(vel);
-  std::printf("%dD projection: strain error per step %.3g -> %.3g in %d CG iterations\n", Dim,
-              before, after, r.iterations);
+  std::printf("%dD projection (%s): strain error per step %.3g -> %.3g in %d CG iterations\n",
+              Dim, pc == InextensibilityPreconditioner::Jacobi ? "Jacobi" : "Cholesky", before,
+              after, r.iterations);
   EXPECT_TRUE(r.converged);
   EXPECT_GT(before, 1e-4);
   EXPECT_LT(after, 1e-5 * before);  // a max norm; CG's tolerance is on the 2-norm
@@ -163,10 +165,53 @@ void expect_projection_keeps_momentum() {
 }
 
 TEST(Inextensibility, ProjectionMeetsItsToleranceAndKeepsMomentum2D) {
-  expect_projection_keeps_momentum<2>();
+  expect_projection_keeps_momentum<2>(InextensibilityPreconditioner::Cholesky);
+  expect_projection_keeps_momentum<2>(InextensibilityPreconditioner::Jacobi);
 }
 TEST(Inextensibility, ProjectionMeetsItsToleranceAndKeepsMomentum3D) {
-  expect_projection_keeps_momentum<3>();
+  expect_projection_keeps_momentum<3>(InextensibilityPreconditioner::Cholesky);
+  expect_projection_keeps_momentum<3>(InextensibilityPreconditioner::Jacobi);
+}
+
+// The assembled Schur complement is the operator CG applies: S mu = B m^-1 B^T mu for random
+// mu, in 2D and 3D (no walls: P = I).
+template <int Dim>
+void expect_schur_matrix_matches_the_operator() {
+  MpmSim<Dim> sim = fibered_block<Dim>(Real(0.9));
+  const double dt = 1e-3;
+  prepare_grid(sim, dt);
+  const FiberConstraints<Dim> fc(sim.settings(), sim.state(), Real(dt));
+  std::vector<int> index;
+  const Eigen::SparseMatrix<double> S = fc.schur_matrix(&index);
+  ASSERT_GT(S.rows(), 0);
+  const SparseGrid<Dim>& grid = sim.grid();
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<Real> mu(fc.rows(), 0), c0, c1;
+  Eigen::VectorXd x(S.rows());
+  for (size_t z = 0; z < mu.size(); ++z)
+    if (index[z] >= 0) x[index[z]] = mu[z] = Real(u(rng));
+  std::vector<Vec<Dim>> w, zero(grid.num_active_nodes(), Vec<Dim>::Zero());
+  fc.transpose(mu, &w);
+  for (size_t n = 0; n < w.size(); ++n)
+    w[n] = grid.mass[n] > 0 ? Vec<Dim>(w[n] / grid.mass[n]) : Vec<Dim>::Zero().eval();
+  fc.constraint(zero, &c0);
+  fc.constraint(w, &c1);
+  const Eigen::VectorXd y = S * x;
+  double worst = 0, scale = 0;
+  for (size_t z = 0; z < mu.size(); ++z) {
+    if (index[z] < 0) continue;
+    worst = std::max(worst, std::abs(y[index[z]] - double(c1[z] - c0[z])));
+    scale = std::max(scale, std::abs(y[index[z]]));
+  }
+  EXPECT_LT(worst, 1e-12 * scale);
+}
+
+TEST(Inextensibility, SchurMatrixMatchesTheOperator2D) {
+  expect_schur_matrix_matches_the_operator<2>();
+}
+TEST(Inextensibility, SchurMatrixMatchesTheOperator3D) {
+  expect_schur_matrix_matches_the_operator<3>();
 }
 
 // A 2D bar of length L, fibers along it, its top 4 cells in a sticky box, released from rest
@@ -184,12 +229,14 @@ constexpr double kE = 200, kRho = 1, kL = 0.5, kG = 9.8, kTop = 0.8;
 
 Hanging hanging_bar(bool inextensible, double relaxation = 0,
                     Integrator integrator = Integrator::Explicit, double dt_factor = 1,
-                    double dx = 1.0 / 32, double periods = 3) {
+                    double dx = 1.0 / 32, double periods = 3,
+                    InextensibilityPreconditioner pc = InextensibilityPreconditioner::Cholesky) {
   Scene s = basic_scene(2, dx, Vec3d::Zero(), Vec3d(1, 1, 0), Model::QrAniso, kE, 0.0, kRho, 0);
   s.gravity = Vec3d(0, -kG, 0);
   s.integrator = integrator;
   s.materials[0].inextensibility.enabled = inextensible;
   s.materials[0].inextensibility.relaxation = relaxation;
+  s.inextensibility.preconditioner = pc;
   const double grip = kTop - 4 * dx, top = kTop;
   s.boundaries.push_back(sticky_box(2, Vec3d(0, grip, 0), Vec3d(1, 1, 0)));
   Particles<2> p = lattice_block<2>(s, Vec<2>(0.45, Real(grip - kL)), Vec<2>(0.55, Real(top)), 2,
@@ -275,6 +322,25 @@ TEST(Inextensibility, HangingBarHoldsUnderTheImplicitIntegratorAndAtFinerGrids) 
   // The projection follows Newton's solve, whose elastic forces see the bar stretch within the
   // step: they carry a share of the weight (8 % here), the constraint the rest.
   EXPECT_LT(implicit.tension_error, 0.12);
+}
+
+// CG iterations a step as dx halves: the Cholesky preconditioner (an exact factorisation) needs
+// one whatever the resolution; Jacobi's count grows with the bar's length in cells.
+TEST(Inextensibility, CholeskyPreconditionerKeepsCgIterationsAsTheGridRefines) {
+  double mean[2][2];
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 2; ++j) {
+      const auto pc = j == 0 ? InextensibilityPreconditioner::Cholesky
+                             : InextensibilityPreconditioner::Jacobi;
+      const Hanging h = hanging_bar(true, 0, Integrator::Explicit, 1, 1.0 / (16 << k), 0.3, pc);
+      mean[k][j] = double(h.stats.cg_iterations) / double(h.stats.solves);
+      EXPECT_EQ(h.stats.unconverged, 0);
+    }
+  std::printf("CG iterations a step at dx = 1/16, 1/32: Cholesky %.1f, %.1f; Jacobi %.1f, %.1f\n",
+              mean[0][0], mean[1][0], mean[0][1], mean[1][1]);
+  EXPECT_LE(mean[1][0], 2.0);
+  EXPECT_GT(mean[1][1] / mean[0][1], 1.5);
+  EXPECT_LT(mean[1][0] / mean[0][0], 0.5 * mean[1][1] / mean[0][1]);
 }
 
 // The relaxed constraint is a fiber of modulus k in parallel with the material: the bar

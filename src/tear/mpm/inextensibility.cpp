@@ -7,6 +7,9 @@
 #include "tear/kernels/bspline.h"
 #include "tear/mpm/phases.h"
 
+#include <Eigen/SparseCholesky>
+
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -63,8 +66,10 @@ struct FiberPart {
     if (!(J > 0) || !(s > Real(1e-6))) return;
     weight = (1 - d) * J * p.vol0[i];
     a = fa / s;
-    rate = (1 / (s * s) - 1) / (2 * dt);
     stiffness = Real(ip.relaxation);
+    // Relaxed: the fiber's stretch counts (an elastic fiber); hard: its rate only (see the
+    // header).
+    if (stiffness > 0) rate = (1 / (s * s) - 1) / (2 * dt);
   }
 };
 
@@ -118,7 +123,8 @@ FiberConstraints<Dim>::FiberConstraints(const MpmSettings& settings, const MpmSt
   scatter([&](const FiberPart<Dim>&, const FiberStencil<Dim>& st) {
     for_each_offset<Dim>(2, [&](const IVec<Dim>& c) { row_of[size_t(grid.node_index(st.base + c))] = 0; });
   });
-  std::vector<int> cell_node;
+  std::vector<int>& cell_node = cell_node_;
+  cell_node.clear();
   for (size_t n = 0; n < nn; ++n)
     if (row_of[n] == 0) {
       row_of[n] = int(cell_node.size());
@@ -162,12 +168,18 @@ FiberConstraints<Dim>::FiberConstraints(const MpmSettings& settings, const MpmSt
     });
   });
 
-  // m^-1 P per node, and the diagonal of B m^-1 P B^T + K.
+  // m^-1 P at the nodes the rows reach (zero elsewhere), and the diagonal of
+  // B m^-1 P B^T + K.
+  std::vector<char> reached(nn, 0);
+  for (size_t z = 0; z < rows; ++z)
+    for (int n : node_[z])
+      if (n >= 0) reached[size_t(n)] = 1;
   const NodeContacts<Dim> contacts(grid, settings.walls, settings.colliders, state.time);
   mobility_.assign(nn, Mat<Dim>::Zero());
   parallel_for(nn, [&](size_t n) {
     const Real m = grid.mass[n];
-    if (m > 0) mobility_[n] = free_directions(contacts, int(n), grid.velocity[n]) / m;
+    if (reached[n] && m > 0)
+      mobility_[n] = free_directions(contacts, int(n), grid.velocity[n]) / m;
   });
   diag_.assign(rows, 0);
   const Real min_volume = Real(0.1 * std::pow(grid.dx(), Dim));
@@ -226,6 +238,64 @@ double FiberConstraints<Dim>::strain_error(const std::vector<Vec<Dim>>& v) const
 }
 
 template <int Dim>
+Eigen::SparseMatrix<double> FiberConstraints<Dim>::schur_matrix(std::vector<int>* index) const {
+  // The active rows, numbered in row order.
+  const size_t rows = this->rows();
+  index->assign(rows, -1);
+  int n_active = 0;
+  for (size_t z = 0; z < rows; ++z)
+    if (diag_[z] > 0) (*index)[z] = n_active++;
+  // Each active row's entries: rows whose cells are within 3 of its cell on every axis share
+  // nodes with it. Built row by row (columns sorted), then taken as a column-major matrix: S
+  // is symmetric.
+  constexpr int kReach = 7, kNear = Dim == 2 ? 49 : 343;
+  std::vector<std::vector<std::pair<int, double>>> entries(static_cast<size_t>(n_active));
+  parallel_for(rows, [&](size_t z) {
+    const int iz = (*index)[z];
+    if (iz < 0) return;
+    const IVec<Dim> cz = grid_.node_coord(cell_node_[z]);
+    std::array<int, kNear> near, near_row;  // active index and row at each offset, or -1
+    std::array<double, kNear> sum;
+    for_each_offset<Dim>(kReach, [&](const IVec<Dim>& o) {
+      int k = 0;
+      for (int d = Dim - 1; d >= 0; --d) k = k * kReach + o[d];
+      const int n = grid_.node_index(cz + o - IVec<Dim>::Constant(3));
+      const int y = n < 0 ? -1 : row_of_[size_t(n)];
+      near[size_t(k)] = y < 0 ? -1 : (*index)[size_t(y)];
+      near_row[size_t(k)] = y;
+      sum[size_t(k)] = 0;
+    });
+    // Slot a of row z is node cz - 1 + a; it is slot b of the row at cell cz + a - b.
+    for_each_offset<Dim>(4, [&](const IVec<Dim>& a) {
+      const int n = node_[z][size_t(slot_index<Dim>(a))];
+      if (n < 0) return;
+      const Vec<Dim> w = mobility_[size_t(n)] * coef_[z][size_t(slot_index<Dim>(a))];
+      if (w.isZero()) return;
+      for_each_offset<Dim>(4, [&](const IVec<Dim>& b) {
+        int k = 0;
+        for (int d = Dim - 1; d >= 0; --d) k = k * kReach + (a[d] - b[d] + 3);
+        if (near[size_t(k)] < 0) return;
+        const size_t zy = size_t(near_row[size_t(k)]);
+        sum[size_t(k)] += double(coef_[zy][size_t(slot_index<Dim>(b))].dot(w));
+      });
+    });
+    std::vector<std::pair<int, double>>& e = entries[size_t(iz)];
+    for (int k = 0; k < kNear; ++k)
+      if (near[size_t(k)] >= 0 && (sum[size_t(k)] != 0 || near[size_t(k)] == iz))
+        e.emplace_back(near[size_t(k)], sum[size_t(k)] + (near[size_t(k)] == iz ? compliance_[z] : 0));
+    std::sort(e.begin(), e.end());
+  });
+  Eigen::SparseMatrix<double> S(n_active, n_active);
+  std::vector<int> counts(static_cast<size_t>(n_active));
+  for (int i = 0; i < n_active; ++i) counts[size_t(i)] = int(entries[size_t(i)].size());
+  S.reserve(counts);
+  for (int i = 0; i < n_active; ++i)
+    for (const auto& [j, v] : entries[size_t(i)]) S.insert(j, i) = v;
+  S.makeCompressed();
+  return S;
+}
+
+template <int Dim>
 PcgResult FiberConstraints<Dim>::project(std::vector<Vec<Dim>>* v,
                                          const InextensibilitySettings& solve,
                                          std::vector<Real>* mu_out) const {
@@ -251,14 +321,39 @@ PcgResult FiberConstraints<Dim>::project(std::vector<Vec<Dim>>* v,
       y[z] = s;
     });
   };
-  const auto jacobi = [&](const std::vector<Real>& r, std::vector<Real>& z) {
-    parallel_for(r.size(), [&](size_t i) { z[i] = active(i) ? r[i] / diag_[i] : Real(0); });
-  };
   std::vector<Real> local;
   std::vector<Real>& mu = mu_out ? *mu_out : local;
   mu.assign(rows(), 0);
-  const PcgResult res =
-      pcg_solve(apply, jacobi, active, rhs, solve.tolerance, solve.max_iterations, &mu);
+  PcgResult res;
+  const auto jacobi = [&](const std::vector<Real>& r, std::vector<Real>& z) {
+    parallel_for(r.size(), [&](size_t i) { z[i] = active(i) ? r[i] / diag_[i] : Real(0); });
+  };
+  bool factored = false;
+  if (solve.preconditioner == InextensibilityPreconditioner::Cholesky) {
+    // The Schur complement, factored: CG converges in one or two iterations. Rows that are
+    // nearly dependent (S is only semi-definite) get a relative shift of 1e-10 on the
+    // diagonal, which CG's iterations then correct; should the factorisation still fail, the
+    // step falls back to Jacobi.
+    std::vector<int> index;
+    Eigen::SparseMatrix<double> S = schur_matrix(&index);
+    for (int i = 0; i < S.rows(); ++i) S.coeffRef(i, i) *= 1 + 1e-10;
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt(S);
+    factored = ldlt.info() == Eigen::Success && (ldlt.vectorD().array() > 0).all();
+    if (factored) {
+      Eigen::VectorXd r_active(S.rows()), z_active;
+      const auto cholesky = [&](const std::vector<Real>& r, std::vector<Real>& z) {
+        for (size_t i = 0; i < r.size(); ++i)
+          if (index[i] >= 0) r_active[index[i]] = double(r[i]);
+        z_active = ldlt.solve(r_active);
+        for (size_t i = 0; i < r.size(); ++i)
+          z[i] = index[i] >= 0 ? Real(z_active[index[i]]) : Real(0);
+      };
+      res = pcg_solve(apply, cholesky, active, rhs, solve.tolerance, solve.max_iterations, &mu);
+    }
+  }
+  if (!factored) {
+    res = pcg_solve(apply, jacobi, active, rhs, solve.tolerance, solve.max_iterations, &mu);
+  }
   transpose(mu, &u);
   parallel_for(u.size(), [&](size_t n) { (*v)[n] -= mobility_[n] * u[n]; });
   return res;

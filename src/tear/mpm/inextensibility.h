@@ -10,15 +10,20 @@
 // cell:
 //   (B v)_z = sum_p W_p Gamma_z(x_p) a_p^T C_p(v) a_p,  C_p(v) = sum_i v_i grad N_i(x_p)^T,
 // the fiber stretch rate of the particles near the cell (G2P's F update is (I + dt C) F), held
-// at the rate that brings every fiber back to its rest length over the step:
-//   r_z = sum_p W_p Gamma_z(x_p) (1 / s_p^2 - 1) / (2 dt),
-// so that drift does not accumulate. A cell has no row where the material barely reaches it
-// (V_z = sum_p W_p Gamma_z(x_p) below a tenth of a cell's volume: such a row is a near copy of
+// at zero by the hard constraint (the paper's B v = 0; the exact solve leaves a drift of 1e-10
+// over thousands of steps in the tests). The relaxed one holds it at the rate that brings the
+// fibers back to their rest length over the step,
+//   r_z = sum_p W_p Gamma_z(x_p) (1 / s_p^2 - 1) / (2 dt)
+// (over the relaxed particles), so that its penalty is on the stretch itself: an elastic fiber.
+// Taking r in the hard constraint too is unstable (a run's energy grows until it blows up): the
+// rows hold cell averages, which the particles' own stretches cannot all follow at once. A
+// cell has no row where the material barely reaches it (V_z = sum_p W_p Gamma_z(x_p) below a tenth of a cell's volume: such a row is a near copy of
 // a neighbour's and worsens CG's conditioning by orders of magnitude), nor where walls and
 // colliders hold three quarters of it or more (measured by the row's diagonal with and without
 // them: its multiplier would grow without moving a node). The new velocities are the closest
-// to the grid update's in the mass metric: v = v~ - m^-1 P B^T mu with (B m^-1 P B^T + K) mu = B v~ - r, solved by
-// Jacobi-preconditioned CG (P: the directions walls and colliders leave free). K = 0 is the
+// to the grid update's in the mass metric: v = v~ - m^-1 P B^T mu with
+// (B m^-1 P B^T + K) mu = B v~ - r, solved by CG preconditioned by that matrix's sparse Cholesky
+// factorisation, or its diagonal (P: the directions walls and colliders leave free). K = 0 is the
 // hard constraint; the relaxed one (supplement §4.3) has K_zz = sum_p W_p Gamma_z / (k_p dt^2)
 // over particles whose material has a relaxation stiffness k_p (Pa): it is the minimiser of
 // sum_i m_i/2 |v_i - v~_i|^2 plus the energy k/2 eps^2 V of a fiber of modulus k stretched by
@@ -28,6 +33,8 @@
 #include "tear/mpm/settings.h"
 #include "tear/mpm/state.h"
 #include "tear/solvers/pcg.h"
+
+#include <Eigen/SparseCore>
 
 #include <array>
 #include <vector>
@@ -67,6 +74,9 @@ class FiberConstraints {
   // CG's figures, and mu in mu_out (when given).
   PcgResult project(std::vector<Vec<Dim>>* v, const InextensibilitySettings& solve,
                     std::vector<Real>* mu_out = nullptr) const;
+  // The Schur complement B m^-1 P B^T + K over the active rows (index[z]: row z's number
+  // there, or -1): what the Cholesky preconditioner factors. Exposed for tests.
+  Eigen::SparseMatrix<double> schur_matrix(std::vector<int>* index) const;
   // Each particle's fiber tension mu(x_p) / dt (Pa, a Cauchy stress along a_p: the constraint's
   // force is that of the stress (1 - d) T a a^T), 0 where it takes no part, into its
   // fiber_tension field (nothing without one).
@@ -77,6 +87,7 @@ class FiberConstraints {
   const SparseGrid<Dim>& grid_;
   Real dt_;
   std::vector<int> row_of_;  // per node: the row of the cell it is the lower corner of, or -1
+  std::vector<int> cell_node_;  // per row: its cell's lower corner node
   std::vector<std::array<int, kSlots>> node_;     // storage index of each slot's node, or -1
   std::vector<std::array<Vec<Dim>, kSlots>> coef_;  // B's entries
   std::vector<Real> volume_, target_, compliance_, diag_;

@@ -27,10 +27,14 @@ struct InextensibleParams {
   double relaxation = 0;
 };
 
-// The inextensibility solve: CG on the multipliers until |residual| <= tolerance |B v~ - r|.
+// The inextensibility solve: CG on the multipliers until |residual| <= tolerance |B v~ - r|,
+// preconditioned by the Schur complement's sparse Cholesky factorisation (exact: one or two
+// iterations; its cost grows faster than the rows, most in 3D) or its diagonal.
+enum class InextensibilityPreconditioner { Cholesky, Jacobi };
 struct InextensibilitySettings {
   double tolerance = 1e-6;
   int max_iterations = 2000;
+  InextensibilityPreconditioner preconditioner = InextensibilityPreconditioner::Cholesky;
 };
 
 struct MpmSettings {

@@ -110,7 +110,7 @@ json parse_inextensibility(const Reader& r, const json& doc, Scene* s) {
   static const json kEmpty = json::object();
   const json* d = r.find(doc, "inextensibility");
   if (!d) d = &kEmpty;
-  r.object(*d, "inextensibility", {"tolerance", "max_iterations"});
+  r.object(*d, "inextensibility", {"tolerance", "max_iterations", "preconditioner"});
   InextensibilitySettings& x = s->inextensibility;
   x.tolerance = r.number(*d, "inextensibility", "tolerance", x.tolerance);
   r.check(x.tolerance > 0 && x.tolerance < 1, "inextensibility.tolerance",
@@ -118,7 +118,12 @@ json parse_inextensibility(const Reader& r, const json& doc, Scene* s) {
   x.max_iterations = int(r.integer(*d, "inextensibility", "max_iterations", x.max_iterations));
   r.check(x.max_iterations >= 1 && x.max_iterations <= 1000000, "inextensibility.max_iterations",
           "must be in [1, 1e6], got " + std::to_string(x.max_iterations));
-  return {{"tolerance", x.tolerance}, {"max_iterations", x.max_iterations}};
+  x.preconditioner = InextensibilityPreconditioner(
+      r.choice(*d, "inextensibility", "preconditioner", {"cholesky", "jacobi"}, 0));
+  return {{"tolerance", x.tolerance},
+          {"max_iterations", x.max_iterations},
+          {"preconditioner",
+           x.preconditioner == InextensibilityPreconditioner::Cholesky ? "cholesky" : "jacobi"}};
 }
 
 json parse_damage(const Reader& r, const json& doc, Scene* s) {
