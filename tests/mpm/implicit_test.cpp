@@ -15,19 +15,9 @@ namespace {
 using testing::basic_scene;
 using testing::lattice_block;
 using testing::MpmSim;
+using testing::sticky_box;
 
 constexpr double kPi = 3.14159265358979323846;
-
-Collider sticky_box(int dim, Vec3d lo, Vec3d hi, Vec3d velocity = Vec3d::Zero()) {
-  Collider c;
-  c.type = ContactType::Sticky;
-  c.shape.type = Shape::Type::Box;
-  c.shape.dim = dim;
-  c.shape.min = lo;
-  c.shape.max = hi;
-  c.velocity = velocity;
-  return c;
-}
 
 // A fibered block, sheared and stretched by an initial velocity field, held at its top by a
 // sticky box: its grid after P2G and the grid update of one implicit step, ready for a

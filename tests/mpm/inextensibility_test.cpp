@@ -18,17 +18,7 @@ namespace {
 using testing::basic_scene;
 using testing::lattice_block;
 using testing::MpmSim;
-
-Collider sticky_box(int dim, Vec3d lo, Vec3d hi, Vec3d velocity = Vec3d::Zero()) {
-  Collider c;
-  c.type = ContactType::Sticky;
-  c.shape.type = Shape::Type::Box;
-  c.shape.dim = dim;
-  c.shape.min = lo;
-  c.shape.max = hi;
-  c.velocity = velocity;
-  return c;
-}
+using testing::sticky_box;
 
 template <int Dim>
 Mat<Dim> fiber_frame(Real angle) {

@@ -74,6 +74,18 @@ class MpmSim {
   }
 };
 
+// A sticky box collider (2D: z ignored) moving at `velocity`.
+inline Collider sticky_box(int dim, Vec3d lo, Vec3d hi, Vec3d velocity = Vec3d::Zero()) {
+  Collider c;
+  c.type = ContactType::Sticky;
+  c.shape.type = Shape::Type::Box;
+  c.shape.dim = dim;
+  c.shape.min = lo;
+  c.shape.max = hi;
+  c.velocity = velocity;
+  return c;
+}
+
 inline Scene basic_scene(int dim, double dx, Vec3d lo, Vec3d hi, Model model, double E, double nu,
                          double rho, double fiber_scale = 0) {
   Scene s;
