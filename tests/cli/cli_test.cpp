@@ -308,6 +308,43 @@ TEST_F(Cli, ImplicitDamageRecordsSolverFiguresAndResumesBitIdentically) {
   EXPECT_GT(stats(path("capped")).back()["damage_unconverged"].get<long>(), 0);
 }
 
+// Inextensible ropes end to end (examples/hanging_disk_2d.json, coarser): stats.jsonl carries
+// the solve's figures, frames the fiber_tension column, the Cholesky preconditioner needs one
+// or two CG iterations a step (Jacobi many more), and a resumed run gives the same bits.
+TEST_F(Cli, InextensibleRopesRecordTheirSolveAndResumeBitIdentically) {
+  const std::string scene =
+      (std::filesystem::path(TEAR_SOURCE_DIR) / "examples" / "hanging_disk_2d.json").string();
+  const std::string coarse = " -q --set grid.dx=0.015625 --set time.frames=4";
+  ASSERT_EQ(tear("run " + scene + " -o " + path("full") + coarse), 0) << err_;
+  const std::vector<json> a = stats(path("full"));
+  ASSERT_EQ(a.size(), 5u);
+  long steps = 0, iterations = 0;
+  for (const json& f : a) {
+    for (const char* k : {"inextensibility_iterations", "inextensibility_iterations_max",
+                          "inextensibility_residual", "inextensibility_unconverged"})
+      EXPECT_TRUE(f.contains(k)) << k;
+    steps += f["steps"].get<long>();
+    iterations += f["inextensibility_iterations"].get<long>();
+    EXPECT_EQ(f["inextensibility_unconverged"], 0);
+    EXPECT_LE(f["inextensibility_residual"].get<double>(), 1e-6);
+    EXPECT_LE(f["inextensibility_iterations_max"].get<int>(), 2);
+  }
+  EXPECT_GT(steps, 0);
+  EXPECT_GE(iterations, steps);
+  EXPECT_NE(read_file(path("full/frames/00004.ply")).find("property float fiber_tension"),
+            std::string::npos);
+  ASSERT_EQ(tear("run " + scene + " -o " + path("jacobi") + coarse +
+                 " --set inextensibility.preconditioner=jacobi --frames 1"),
+            0)
+      << err_;
+  const json j = stats(path("jacobi")).back();
+  EXPECT_GT(j["inextensibility_iterations"].get<long>(), 20 * j["steps"].get<long>());
+  ASSERT_EQ(tear("run " + scene + " -o " + path("part") + coarse + " --frames 2"), 0) << err_;
+  ASSERT_EQ(tear("run " + scene + " -o " + path("part") + coarse + " --resume --frames 4"), 0)
+      << err_;
+  EXPECT_EQ(read_file(path("full/frames/00004.ply")), read_file(path("part/frames/00004.ply")));
+}
+
 // Crack fields: a run resumed half way gives the same bits (the partition is recomputed every
 // step from the state; its scratch is not part of a checkpoint), and they change the result.
 TEST_F(Cli, CrackFieldsResumeBitIdentically) {
@@ -342,8 +379,9 @@ TEST_F(Cli, EveryExampleChecks) {
     SCOPED_TRACE(e.path().string());
     EXPECT_EQ(tear("check " + e.path().string()), 0) << err_;
     EXPECT_NE(out_.find("\nparticles  "), std::string::npos) << out_;
-    if (e.path().parent_path().filename() == "paper")
+    if (e.path().parent_path().filename() == "paper") {
       EXPECT_NE(out_.find("\n           AnisoMPM paper Fig."), std::string::npos) << out_;
+    }
     ++checked;
   }
   EXPECT_GE(checked, 30);

@@ -294,7 +294,8 @@ json parse_render(const Reader& r, const json& doc, Scene* s) {
 
 // Top-level sections a scene may leave out (every key has a default): an override may name
 // one that the file does not have.
-const std::vector<std::string> kOptionalSections = {"damage", "output", "render"};
+const std::vector<std::string> kOptionalSections = {"implicit", "inextensibility", "damage",
+                                                    "output", "render"};
 
 // Sets doc at the dotted `path` to `value`; the parent must exist, or be an optional section.
 void apply_override(const std::string& file, json* doc, const std::string& ov) {
