@@ -17,8 +17,6 @@ using testing::lattice_block;
 using testing::MpmSim;
 using testing::sticky_box;
 
-constexpr double kPi = 3.14159265358979323846;
-
 // A fibered block, sheared and stretched by an initial velocity field, held at its top by a
 // sticky box: its grid after P2G and the grid update of one implicit step, ready for a
 // potential.
@@ -266,35 +264,13 @@ TEST(Implicit, MatchesTheExplicitIntegratorAsTheStepShrinks) {
 // Fixed-free bar with stiff fibers along it (fiber_scale 100), its first mode released: the
 // implicit integrator at ten times the explicit step limit rings at c / 4L within 3 %.
 TEST(Implicit, StiffFiberedBarVibratesAtTheAnalyticFrequencyAtTenTimesTheExplicitStep) {
-  const double E = 1e4, rho = 1, L = 1, dx = 1.0 / 64, x0 = 0.25, gamma = 100;
-  Scene s = basic_scene(2, dx, Vec3d(0, 0, 0), Vec3d(1.5, 0.5, 0), Model::QrAniso, E, 0.0, rho,
-                        gamma);
-  s.integrator = Integrator::Implicit;
-  s.boundaries.push_back(sticky_box(2, Vec3d(-1, -1, 0), Vec3d(x0 + 1e-9, 2, 0)));
-  const double c = wave_speed(s.materials[0].params);
-  const double v0 = 1e-3 * c;
-  auto vel = [&](const Vec<2>& x) {
-    return Vec<2>(Real(v0 * std::sin(kPi * (x[0] - x0) / (2 * L))), 0);
-  };
-  Particles<2> p = lattice_block<2>(s, Vec<2>(Real(x0), Real(0.2)),
-                                    Vec<2>(Real(x0 + L), Real(0.2 + 4 * dx)), 2, vel);
-  MpmSim<2> sim(s, std::move(p));
+  const double E = 1e4, rho = 1, L = 1, dx = 1.0 / 64, gamma = 100;
+  MpmSim<2> sim = testing::clamped_bar(Model::QrAniso, E, dx, gamma, Integrator::Implicit);
+  const double c = wave_speed(sim.settings().materials[0]);
   const double explicit_dt = 0.4 * dx / c, dt = 10 * explicit_dt;
   EXPECT_GE(sim.estimate_dt(), dt);  // the implicit step is not held to the wave limit
-  auto mean_v = [&] {
-    double m = 0;
-    for (size_t i = 0; i < sim.particles().size(); ++i) m += sim.particles().v[i][0];
-    return m / double(sim.particles().size());
-  };
-  std::vector<double> crossings;
-  double prev = mean_v(), t_prev = 0;
-  const double t_end = 2.6 * 4 * L / c;
-  while (sim.time() < t_end) {
-    sim.step(dt);
-    const double cur = mean_v();
-    if ((prev > 0) != (cur > 0)) crossings.push_back(t_prev + (sim.time() - t_prev) * prev / (prev - cur));
-    prev = cur, t_prev = sim.time();
-  }
+  const std::vector<double> crossings = testing::velocity_zero_crossings(
+      sim, 2.6 * 4 * L / c, [dt](const MpmSim<2>&) { return dt; });
   ASSERT_GE(crossings.size(), 4u);
   const double half_period = (crossings.back() - crossings.front()) / double(crossings.size() - 1);
   const double f = 1 / (2 * half_period), f0 = std::sqrt(E * (1 + gamma / 2) / rho) / (4 * L);

@@ -127,4 +127,45 @@ Particles<Dim> lattice_block(const Scene& s, const Vec<Dim>& lo, const Vec<Dim>&
   return p;
 }
 
+// A fixed-free bar along x (length 1 from x = 0.25, 4 cells high, 2x2 particles a cell, E, nu
+// = 0, rho = 1), clamped by a sticky box over x <= 0.25 and released in its first
+// longitudinal mode with peak speed 1e-3 c: it rings at sqrt(E_eff / rho) / 4.
+inline MpmSim<2> clamped_bar(Model model, double E, double dx, double fiber_scale,
+                             Integrator integrator = Integrator::Explicit) {
+  constexpr double kPi = 3.14159265358979323846;
+  const double x0 = 0.25, L = 1;
+  Scene s = basic_scene(2, dx, Vec3d(0, 0, 0), Vec3d(1.5, 0.5, 0), model, E, 0.0, 1.0,
+                        fiber_scale);
+  s.integrator = integrator;
+  s.boundaries.push_back(sticky_box(2, Vec3d(-1, -1, 0), Vec3d(x0 + 1e-9, 2, 0)));
+  const double v0 = 1e-3 * wave_speed(s.materials[0].params);
+  auto vel = [&](const Vec<2>& x) {
+    return Vec<2>(Real(v0 * std::sin(kPi * (x[0] - x0) / (2 * L))), 0);
+  };
+  Particles<2> p = lattice_block<2>(s, Vec<2>(Real(x0), Real(0.2)),
+                                    Vec<2>(Real(x0 + L), Real(0.2 + 4 * dx)), 2, vel);
+  return MpmSim<2>(s, std::move(p));
+}
+
+// Steps sim to t_end by dt(sim) and returns the times at which the mean x-velocity of its
+// particles changed sign (interpolated within a step).
+template <class StepSize>
+std::vector<double> velocity_zero_crossings(MpmSim<2>& sim, double t_end, StepSize dt) {
+  auto mean_v = [&] {
+    double m = 0;
+    for (size_t i = 0; i < sim.particles().size(); ++i) m += sim.particles().v[i][0];
+    return m / double(sim.particles().size());
+  };
+  std::vector<double> crossings;
+  double prev = mean_v(), t_prev = sim.time();
+  while (sim.time() < t_end) {
+    sim.step(dt(sim));
+    const double cur = mean_v();
+    if ((prev > 0) != (cur > 0))
+      crossings.push_back(t_prev + (sim.time() - t_prev) * prev / (prev - cur));
+    prev = cur, t_prev = sim.time();
+  }
+  return crossings;
+}
+
 }  // namespace tear::testing
