@@ -20,7 +20,7 @@ namespace {
 
 // Checkpoint format: this magic (with its version), then the header below, then each group's
 // state fields as io/field_io.h writes them.
-const std::string kCheckpointMagic = "TEARCKP7";
+const std::string kCheckpointMagic = "TEARCKP8";
 
 template <int Dim>
 class MpmSimulation final : public Simulation {
@@ -104,6 +104,7 @@ class MpmSimulation final : public Simulation {
     s.cg_iterations = is.cg_iterations;
     s.newton_residual = is.residual_max;
     s.newton_unconverged = is.unconverged;
+    s.cg_multigrid_solves = is.multigrid_solves;
     is = ImplicitSolveStats();
     InextensibilityStats& xs = record_.inextensibility;
     s.inextensibility_figures = has_inextensibility(settings_);
@@ -137,6 +138,7 @@ class MpmSimulation final : public Simulation {
     for (const Particles<Dim>& g : state_.groups) w.put<uint64_t>(g.size());
     w.put<double>(state_.time);
     w.put<int64_t>(state_.steps);
+    w.put<int32_t>(state_.implicit_multigrid ? 1 : 0);
     w.put<int32_t>(frame_);
     w.put<int64_t>(steps_since_stats_);
     w.put<double>(dt_min_);
@@ -154,6 +156,7 @@ class MpmSimulation final : public Simulation {
     w.put<int64_t>(is.cg_iterations);
     w.put<double>(is.residual_max);
     w.put<int64_t>(is.unconverged);
+    w.put<int64_t>(is.multigrid_solves);
     const InextensibilityStats& xs = record_.inextensibility;
     w.put<int64_t>(xs.solves);
     w.put<int64_t>(xs.cg_iterations);
@@ -190,6 +193,7 @@ class MpmSimulation final : public Simulation {
     MpmState<Dim> state;
     state.time = r.get<double>();
     state.steps = long(r.get<int64_t>());
+    state.implicit_multigrid = r.get<int32_t>() != 0;
     const int frame = r.get<int32_t>();
     const long since = long(r.get<int64_t>());
     const double dt_min = r.get<double>(), dt_max = r.get<double>();
@@ -206,6 +210,7 @@ class MpmSimulation final : public Simulation {
     is.cg_iterations = long(r.get<int64_t>());
     is.residual_max = r.get<double>();
     is.unconverged = long(r.get<int64_t>());
+    is.multigrid_solves = long(r.get<int64_t>());
     InextensibilityStats xs;
     xs.solves = long(r.get<int64_t>());
     xs.cg_iterations = long(r.get<int64_t>());
@@ -217,6 +222,7 @@ class MpmSimulation final : public Simulation {
     state_.groups = std::move(stores);
     state_.time = state.time;
     state_.steps = state.steps;
+    state_.implicit_multigrid = state.implicit_multigrid;
     frame_ = frame;
     steps_since_stats_ = since;
     dt_min_ = dt_min;

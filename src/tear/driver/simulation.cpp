@@ -32,6 +32,7 @@ nlohmann::json FrameStats::to_json() const {
     j["cg_iterations"] = cg_iterations;
     j["newton_residual"] = newton_residual;
     j["newton_unconverged"] = newton_unconverged;
+    j["cg_multigrid_solves"] = cg_multigrid_solves;
   }
   if (inextensibility_figures) {
     j["inextensibility_iterations"] = inextensibility_iterations;

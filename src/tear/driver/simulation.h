@@ -38,9 +38,10 @@ struct FrameStats {
   double damage_change = 0;
   // The implicit integrator only (written when implicit_figures): Newton iterations since the
   // previous frame summed and at most per step, CG iterations summed, the largest final
-  // residual and the steps whose Newton solve stopped at implicit.max_iterations.
+  // residual, the steps whose Newton solve stopped at implicit.max_iterations, and the Newton
+  // iterations whose linear solve used multigrid (implicit.preconditioner).
   bool implicit_figures = false;
-  long newton_iterations = 0, cg_iterations = 0, newton_unconverged = 0;
+  long newton_iterations = 0, cg_iterations = 0, newton_unconverged = 0, cg_multigrid_solves = 0;
   int newton_iterations_max = 0;
   double newton_residual = 0;
   // Inextensible materials only (written when inextensibility_figures): CG iterations of the

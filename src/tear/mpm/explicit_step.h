@@ -24,6 +24,7 @@ struct ImplicitSolveStats {
   long cg_iterations = 0;  // summed over the Newton steps of every solve
   double residual_max = 0;  // largest final residual (Newton's measure, implicit_step.h)
   long unconverged = 0;  // solves that stopped at the Newton iteration limit
+  long multigrid_solves = 0;  // Newton iterations whose linear solve used multigrid
 };
 
 // What steps leave behind besides the state: phase times and the figures of the implicit

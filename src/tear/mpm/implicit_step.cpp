@@ -8,6 +8,7 @@
 #include "tear/grid/block_window.h"
 #include "tear/mpm/phases.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -16,7 +17,10 @@ namespace tear {
 template <int Dim>
 IncrementalPotential<Dim>::IncrementalPotential(const MpmSettings& settings,
                                                 const MpmState<Dim>& state, Real dt)
-    : settings_(settings), state_(state), dt_(dt) {
+    : settings_(settings), state_(state), dt_(dt),
+      use_multigrid_(settings.implicit_preconditioner == ImplicitPreconditioner::Multigrid ||
+                     (settings.implicit_preconditioner == ImplicitPreconditioner::Auto &&
+                      state.implicit_multigrid)) {
   const SparseGrid<Dim>& grid = state.grid;
   for (size_t g = 0; g < state.groups.size(); ++g) {
     group_offset_.push_back(refs_.size());
@@ -198,6 +202,118 @@ void IncrementalPotential<Dim>::prepare_hessian(const std::vector<Real>& v) {
   parallel_for(mass_.size(), [&](size_t node) {
     for (int a = 0; a < Dim; ++a) diag_[node * Dim + a] += mass_[node];
   });
+  multigrid_.reset();
+  if (use_multigrid_) build_multigrid();
+}
+
+template <int Dim>
+void IncrementalPotential<Dim>::build_multigrid() {
+  const SparseGrid<Dim>& grid = state_.grid;
+  std::vector<IVec<Dim>> points(mass_.size());
+  std::vector<double> free(mass_.size() * Dim * Dim);
+  parallel_for(mass_.size(), [&](size_t node) {
+    points[node] = grid.node_coord(int(node));
+    for (int e = 0; e < Dim * Dim; ++e) free[node * Dim * Dim + size_t(e)] = free_[node](e);
+  });
+  multigrid_ = std::make_unique<LatticeMultigrid<Dim>>(points, Dim, 2, hessian_matrix(), free);
+  ++multigrid_solves_;
+}
+
+template <int Dim>
+void IncrementalPotential<Dim>::strengthen_preconditioner() {
+  use_multigrid_ = true;
+  build_multigrid();
+}
+
+template <int Dim>
+Eigen::SparseMatrix<double, Eigen::RowMajor> IncrementalPotential<Dim>::hessian_matrix() const {
+  // Blocks between a node and the nodes within two cells of it (5 per axis), accumulated over
+  // the particles, one colour of home blocks at a time (deterministic like scatter).
+  constexpr int kReach = Dim == 2 ? 25 : 125;
+  constexpr int kBlock = Dim * Dim;
+  const SparseGrid<Dim>& grid = state_.grid;
+  const size_t nn = mass_.size();
+  std::vector<IVec<Dim>> coord(nn);
+  parallel_for(nn, [&](size_t node) { coord[node] = grid.node_coord(int(node)); });
+  std::vector<double>& blocks = block_scratch_;  // kept between calls: no new pages each time
+  std::vector<int>& neighbour = neighbour_scratch_;
+  blocks.assign(nn * kReach * kBlock, 0.0);
+  neighbour.assign(nn * kReach, -1);
+  const double dt2 = double(dt_) * double(dt_);
+  scatter([&](size_t k) {
+    const StressDerivative<Dim>& A = hessian_[k];
+    const auto& nodes = nodes_[k];
+    const auto& u = grads_[k];
+    for (int s = 0; s < kStencil; ++s) {
+      // M(a, j) = sum_c u_s[c] A(a + Dim c, j): the force on s's component a per unit dF_j.
+      Eigen::Matrix<double, Dim, Dim * Dim> M = Eigen::Matrix<double, Dim, Dim * Dim>::Zero();
+      for (int a = 0; a < Dim; ++a)
+        for (int c = 0; c < Dim; ++c)
+          M.row(a) += double(u[size_t(s)][c]) * A.row(a + Dim * c).template cast<double>();
+      const int ns = nodes[size_t(s)];
+      for (int t = 0; t < kStencil; ++t) {
+        const int nt = nodes[size_t(t)];
+        int slot = 0;
+        for (int d = Dim - 1; d >= 0; --d) slot = slot * 5 + (coord[size_t(nt)][d] - coord[size_t(ns)][d] + 2);
+        neighbour[size_t(ns) * kReach + size_t(slot)] = nt;
+        double* blk = &blocks[(size_t(ns) * kReach + size_t(slot)) * kBlock];
+        for (int b = 0; b < Dim; ++b)
+          for (int e = 0; e < Dim; ++e) {
+            const double ue = dt2 * double(u[size_t(t)][e]);
+            for (int a = 0; a < Dim; ++a) blk[a + Dim * b] += M(a, b + Dim * e) * ue;
+          }
+      }
+    }
+  });
+  // Rows: node by node, its neighbours in storage order; P (M + dt^2 K) P on the free
+  // directions, the identity on the others (P = free_).
+  constexpr int kCentre = Dim == 2 ? 12 : 62;
+  std::vector<int> count(nn + 1, 0);
+  parallel_for(nn, [&](size_t node) {
+    int c = 0;
+    for (int slot = 0; slot < kReach; ++slot)
+      if (neighbour[node * kReach + size_t(slot)] >= 0 || slot == kCentre) ++c;
+    count[node + 1] = c * Dim;
+  });
+  for (size_t node = 0; node < nn; ++node) count[node + 1] += count[node];
+  Eigen::SparseMatrix<double, Eigen::RowMajor> H(Eigen::Index(nn * Dim), Eigen::Index(nn * Dim));
+  H.resizeNonZeros(Eigen::Index(count[nn]) * Dim);
+  int* outer = H.outerIndexPtr();
+  int* inner = H.innerIndexPtr();
+  double* value = H.valuePtr();
+  for (size_t node = 0; node < nn; ++node)
+    for (int a = 0; a < Dim; ++a) outer[node * Dim + size_t(a)] = Dim * count[node] + a * (count[node + 1] - count[node]);
+  outer[nn * Dim] = Dim * count[nn];
+  parallel_for(nn, [&](size_t node) {
+    std::array<std::pair<int, int>, kReach> list;  // (neighbour, slot)
+    int n = 0;
+    for (int slot = 0; slot < kReach; ++slot) {
+      const int j = slot == kCentre ? int(node) : neighbour[node * kReach + size_t(slot)];
+      if (j >= 0) list[size_t(n++)] = {j, slot};
+    }
+    std::sort(list.begin(), list.begin() + n);
+    const Mat<Dim>& Pi = free_[node];
+    for (int a = 0; a < Dim; ++a) {
+      int pos = outer[node * Dim + size_t(a)];
+      for (int q = 0; q < n; ++q) {
+        const auto [j, slot] = list[size_t(q)];
+        const Eigen::Map<const Eigen::Matrix<double, Dim, Dim>> K(
+            &blocks[(node * kReach + size_t(slot)) * kBlock]);
+        Eigen::Matrix<double, Dim, Dim> blk =
+            Pi.template cast<double>() * K * free_[size_t(j)].template cast<double>();
+        if (j == int(node)) {
+          const Eigen::Matrix<double, Dim, Dim> I = Eigen::Matrix<double, Dim, Dim>::Identity();
+          blk += double(mass_[node]) * Pi.template cast<double>() + (I - Pi.template cast<double>());
+        }
+        for (int b = 0; b < Dim; ++b) {
+          inner[pos] = j * Dim + b;
+          value[pos] = blk(a, b);
+          ++pos;
+        }
+      }
+    }
+  });
+  return H;
 }
 
 template <int Dim>
@@ -227,6 +343,13 @@ void IncrementalPotential<Dim>::apply_hessian(const std::vector<Real>& d,
 template <int Dim>
 void IncrementalPotential<Dim>::precondition(const std::vector<Real>& r,
                                              std::vector<Real>& z) const {
+  if (multigrid_) {
+    mg_r_.resize(Eigen::Index(r.size()));
+    for (size_t i = 0; i < r.size(); ++i) mg_r_[Eigen::Index(i)] = double(r[i]);
+    multigrid_->apply(mg_r_, mg_z_);
+    for (size_t i = 0; i < z.size(); ++i) z[i] = active(i) ? Real(mg_z_[Eigen::Index(i)]) : Real(0);
+    return;
+  }
   parallel_for(mass_.size(), [&](size_t node) {
     Vec<Dim> zn;
     for (int a = 0; a < Dim; ++a) {
@@ -267,6 +390,8 @@ void implicit_step(const MpmSettings& settings, MpmState<Dim>* state, double dt,
     s.cg_iterations += r.cg_iterations;
     s.residual_max = std::max(s.residual_max, r.residual);
     if (!r.converged) ++s.unconverged;
+    s.multigrid_solves += potential.multigrid_solves();
+    if (potential.multigrid_solves() > 0) state->implicit_multigrid = true;
   }
   if (has_inextensibility(settings)) {
     PhaseTimer timer(&t.inextensibility);

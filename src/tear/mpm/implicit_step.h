@@ -7,9 +7,11 @@
 #include "tear/mpm/explicit_step.h"
 #include "tear/mpm/settings.h"
 #include "tear/mpm/state.h"
+#include "tear/solvers/multigrid.h"
 #include "tear/solvers/newton.h"
 
 #include <array>
+#include <memory>
 #include <vector>
 
 namespace tear {
@@ -46,7 +48,23 @@ class IncrementalPotential {
   double residual(const std::vector<Real>& g) const;
   void prepare_hessian(const std::vector<Real>& v);
   void apply_hessian(const std::vector<Real>& d, std::vector<Real>& y) const;
+  // Multigrid or Jacobi (settings.implicit_preconditioner), built by prepare_hessian.
   void precondition(const std::vector<Real>& r, std::vector<Real>& z) const;
+  // Auto, before the switch: builds the multigrid hierarchy at the current Hessian, used from
+  // then on (the rest of this solve, the step's later Newton iterations and, through
+  // MpmState::implicit_multigrid, later steps).
+  bool can_strengthen_preconditioner() const {
+    return settings_.implicit_preconditioner == ImplicitPreconditioner::Auto && !use_multigrid_;
+  }
+  void strengthen_preconditioner();
+  // Newton iterations whose linear solve used multigrid (for part of it, under auto).
+  int multigrid_solves() const { return multigrid_solves_; }
+  // The matrix apply_hessian applies (after prepare_hessian), assembled, with the identity on
+  // the constrained directions and on nodes without mass: what the multigrid preconditioner
+  // coarsens. Row node * Dim + a: node's component a. Exposed for tests.
+  Eigen::SparseMatrix<double, Eigen::RowMajor> hessian_matrix() const;
+  // The multigrid hierarchy of the last prepare_hessian (null with Jacobi).
+  const LatticeMultigrid<Dim>* multigrid() const { return multigrid_.get(); }
   bool active(size_t i) const { return mass_[i / Dim] > 0; }
 
   // Removes the constrained components (and those of nodes without mass) of a velocity-sized
@@ -77,6 +95,13 @@ class IncrementalPotential {
   std::vector<Real> mass_, v_star_, diag_;
   std::vector<Mat<Dim>> free_;  // per node: projection onto the unconstrained directions
   mutable std::vector<Real> scratch_;
+  void build_multigrid();
+  std::unique_ptr<LatticeMultigrid<Dim>> multigrid_;
+  bool use_multigrid_ = false;  // multigrid at the next prepare_hessian
+  int multigrid_solves_ = 0;
+  mutable Eigen::VectorXd mg_r_, mg_z_;
+  mutable std::vector<double> block_scratch_;
+  mutable std::vector<int> neighbour_scratch_;
 };
 
 }  // namespace tear

@@ -27,9 +27,19 @@ struct InextensibleParams {
   double relaxation = 0;
 };
 
+// The preconditioner of the implicit integrator's linear solves: geometric multigrid on the
+// grid nodes, Galerkin-coarsened from the assembled Hessian (solvers/multigrid.h), or the
+// Hessian's diagonal (cheap per iteration; its iterations grow with dt / dx). Auto: the
+// diagonal until a solve has taken newton.cg_escalate_after iterations without converging,
+// multigrid from then on (for the rest of the run: MpmState::implicit_multigrid).
+enum class ImplicitPreconditioner { Auto, Multigrid, Jacobi };
+
 // The inextensibility solve: CG on the multipliers until |residual| <= tolerance |B v~ - r|,
 // preconditioned by the Schur complement's sparse Cholesky factorisation (exact: one or two
-// iterations; its cost grows faster than the rows, most in 3D) or its diagonal.
+// iterations; its cost grows faster than the rows, most in 3D) or its diagonal. (Geometric
+// multigrid on the cells, solvers/multigrid.h, was tried: 77 iterations a step on the hanging
+// disk against Jacobi's 377 and Cholesky's 1, slower than Cholesky: rows across a thin rope
+// are nearly dependent, which point smoothers do not resolve.)
 enum class InextensibilityPreconditioner { Cholesky, Jacobi };
 struct InextensibilitySettings {
   double tolerance = 1e-6;
@@ -49,6 +59,7 @@ struct MpmSettings {
   Transfer transfer = Transfer::Apic;
   Integrator integrator = Integrator::Explicit;
   NewtonSettings newton;  // the implicit integrator's solve
+  ImplicitPreconditioner implicit_preconditioner = ImplicitPreconditioner::Auto;
   double flip_ratio = 0.95;
   // > 0: FLIP's per-step ratio is exp(-dt / flip_relaxation_time) instead of flip_ratio, so
   // particle velocities relax to the grid's at a rate that does not depend on the step.

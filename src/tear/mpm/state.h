@@ -17,6 +17,9 @@ struct MpmState {
   SparseGrid<Dim> grid;
   double time = 0;
   long steps = 0;
+  // The implicit integrator's auto preconditioner has switched to multigrid: later steps start
+  // with it (checkpointed, so that a resumed run takes the same path).
+  bool implicit_multigrid = false;
 
   size_t num_particles() const {
     size_t n = 0;

@@ -84,7 +84,9 @@ json parse_implicit(const Reader& r, const json& doc, Scene* s) {
   static const json kEmpty = json::object();
   const json* d = r.find(doc, "implicit");
   if (!d) d = &kEmpty;
-  r.object(*d, "implicit", {"tolerance", "max_iterations", "cg_tolerance", "cg_max_iterations"});
+  r.object(*d, "implicit",
+           {"tolerance", "max_iterations", "cg_tolerance", "cg_max_iterations", "preconditioner",
+            "multigrid_after"});
   NewtonSettings& n = s->newton;
   n.tolerance = r.number(*d, "implicit", "tolerance", n.tolerance);
   r.check(n.tolerance > 0 && n.tolerance < 1, "implicit.tolerance",
@@ -98,10 +100,18 @@ json parse_implicit(const Reader& r, const json& doc, Scene* s) {
   n.cg_max_iterations = int(r.integer(*d, "implicit", "cg_max_iterations", n.cg_max_iterations));
   r.check(n.cg_max_iterations >= 1 && n.cg_max_iterations <= 1000000, "implicit.cg_max_iterations",
           "must be in [1, 1e6], got " + std::to_string(n.cg_max_iterations));
+  static const char* kPreconditioners[] = {"auto", "multigrid", "jacobi"};
+  s->implicit_preconditioner = ImplicitPreconditioner(
+      r.choice(*d, "implicit", "preconditioner", {"auto", "multigrid", "jacobi"}, 0));
+  n.cg_escalate_after = int(r.integer(*d, "implicit", "multigrid_after", n.cg_escalate_after));
+  r.check(n.cg_escalate_after >= 1 && n.cg_escalate_after <= 1000000, "implicit.multigrid_after",
+          "must be in [1, 1e6], got " + std::to_string(n.cg_escalate_after));
   return {{"tolerance", n.tolerance},
           {"max_iterations", n.max_iterations},
           {"cg_tolerance", n.cg_tolerance},
-          {"cg_max_iterations", n.cg_max_iterations}};
+          {"cg_max_iterations", n.cg_max_iterations},
+          {"preconditioner", kPreconditioners[int(s->implicit_preconditioner)]},
+          {"multigrid_after", n.cg_escalate_after}};
 }
 
 // The inextensibility projection's CG solve (mpm/inextensibility.h); stored always, used when a

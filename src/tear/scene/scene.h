@@ -124,6 +124,7 @@ struct Scene {
   Transfer transfer = Transfer::Apic;
   Integrator integrator = Integrator::Explicit;
   NewtonSettings newton;  // scene key `implicit`
+  ImplicitPreconditioner implicit_preconditioner = ImplicitPreconditioner::Auto;  // `implicit.preconditioner`
   InextensibilitySettings inextensibility;  // scene key `inextensibility`
   double flip_ratio = 0.95;
   // > 0: FLIP's per-step ratio is exp(-dt / flip_relaxation_time) instead of flip_ratio, so

@@ -14,6 +14,7 @@ MpmSettings mpm_settings(const Scene& scene) {
   s.transfer = scene.transfer;
   s.integrator = scene.integrator;
   s.newton = scene.newton;
+  s.implicit_preconditioner = scene.implicit_preconditioner;
   s.inextensibility = scene.inextensibility;
   s.flip_ratio = scene.flip_ratio;
   s.flip_relaxation_time = scene.flip_relaxation_time;

@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace tear {
@@ -17,17 +19,28 @@ struct NewtonSettings {
   int max_iterations = 20;     // Newton iterations
   double cg_tolerance = 1e-3;  // relative residual of each linear solve
   int cg_max_iterations = 1000;
+  // > 0: a linear solve still short of cg_tolerance after this many iterations switches to the
+  // problem's stronger preconditioner, where it offers one, and goes on from where it stopped.
+  int cg_escalate_after = 100;
 };
 
 struct NewtonResult {
   int iterations = 0;      // Newton steps taken
   long cg_iterations = 0;  // summed over the steps
   int line_search_cuts = 0;  // step halvings, summed over the steps
+  int escalations = 0;       // linear solves that switched to a stronger preconditioner
   double residual = 0;     // problem.residual of the last gradient
   bool converged = false;
   std::vector<double> residuals;  // residual before each step and at the end (tests, stats)
   std::vector<double> energies;   // energy before each step and at the end
 };
+
+template <class P, class = void>
+struct HasStrengthenPreconditioner : std::false_type {};
+template <class P>
+struct HasStrengthenPreconditioner<
+    P, std::void_t<decltype(std::declval<P&>().can_strengthen_preconditioner()),
+                   decltype(std::declval<P&>().strengthen_preconditioner())>> : std::true_type {};
 
 // Minimises problem.energy(x) from the initial x. The problem provides, on vectors of x's size:
 //   double energy(const std::vector<Real>& x)
@@ -38,6 +51,10 @@ struct NewtonResult {
 //        the constraints applied (constrained entries of y 0, d's ignored)
 //   void precondition(const std::vector<Real>& r, std::vector<Real>& z)
 //   bool active(size_t i)     whether unknown i takes part
+// and optionally
+//   bool can_strengthen_preconditioner()  whether a stronger (costlier) preconditioner exists
+//   void strengthen_preconditioner()      switch to it at the current Hessian
+//        (see NewtonSettings::cg_escalate_after)
 // Each step solves H d = -g by PCG from d = 0, then halves the step from 1 until the energy does
 // not increase (to round-off) (at most 30 halvings; past them the step is taken at the last length, counted in
 // line_search_cuts). A descent direction is guaranteed by H being PSD and CG starting at 0.
@@ -64,12 +81,28 @@ NewtonResult newton_minimize(Problem& problem, std::vector<Real>* x_io,
       b[i] = -g[i];
       d[i] = 0;
     });
-    const PcgResult cg = pcg_solve(
-        [&](const std::vector<Real>& u, std::vector<Real>& y) { problem.apply_hessian(u, y); },
-        [&](const std::vector<Real>& r, std::vector<Real>& z) { problem.precondition(r, z); },
-        [&](size_t i) { return problem.active(i); }, b, settings.cg_tolerance,
-        settings.cg_max_iterations, &d);
+    const auto solve = [&](int max_iterations) {
+      return pcg_solve(
+          [&](const std::vector<Real>& u, std::vector<Real>& y) { problem.apply_hessian(u, y); },
+          [&](const std::vector<Real>& r, std::vector<Real>& z) { problem.precondition(r, z); },
+          [&](size_t i) { return problem.active(i); }, b, settings.cg_tolerance, max_iterations,
+          &d);
+    };
+    int budget = settings.cg_max_iterations;
+    bool escalate = false;
+    if constexpr (HasStrengthenPreconditioner<Problem>::value)
+      escalate = settings.cg_escalate_after > 0 && settings.cg_escalate_after < budget &&
+                 problem.can_strengthen_preconditioner();
+    PcgResult cg = solve(escalate ? settings.cg_escalate_after : budget);
     res.cg_iterations += cg.iterations;
+    if constexpr (HasStrengthenPreconditioner<Problem>::value) {
+      if (escalate && !cg.converged) {
+        problem.strengthen_preconditioner();
+        ++res.escalations;
+        cg = solve(budget - cg.iterations);  // from the d reached so far
+        res.cg_iterations += cg.iterations;
+      }
+    }
     Real alpha = 1;
     double trial_energy = 0;
     for (int cut = 0;; ++cut) {
