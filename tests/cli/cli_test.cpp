@@ -345,6 +345,36 @@ TEST_F(Cli, InextensibleRopesRecordTheirSolveAndResumeBitIdentically) {
   EXPECT_EQ(read_file(path("full/frames/00004.ply")), read_file(path("part/frames/00004.ply")));
 }
 
+// The implicit integrator's auto preconditioner switches to multigrid once a solve stalls, says
+// so in stats.jsonl, and a run resumed after the switch takes the same path (the switch is in
+// the checkpoint): the same bits.
+TEST_F(Cli, ImplicitAutoPreconditionerSwitchesAndResumesBitIdentically) {
+  const std::string scene =
+      (std::filesystem::path(TEAR_SOURCE_DIR) / "bench" / "scenes" / "stiff_cantilever_2d.json")
+          .string();
+  const std::string coarse =
+      " -q --set grid.dx=0.015625 --set time.max_dt=5e-4 --set implicit.multigrid_after=5";
+  ASSERT_EQ(tear("run " + scene + " -o " + path("full") + coarse + " --frames 4"), 0) << err_;
+  const std::vector<json> a = stats(path("full"));
+  ASSERT_EQ(a.size(), 5u);
+  for (size_t f = 1; f < a.size(); ++f) {
+    EXPECT_GT(a[f]["cg_multigrid_solves"].get<long>(), 0) << "frame " << f;
+    EXPECT_EQ(a[f]["cg_multigrid_solves"], a[f]["newton_iterations"]) << "frame " << f;
+    EXPECT_EQ(a[f]["newton_unconverged"], 0);
+  }
+  ASSERT_EQ(tear("run " + scene + " -o " + path("jacobi") + coarse +
+                 " --frames 1 --set implicit.preconditioner=jacobi"),
+            0)
+      << err_;
+  const json j = stats(path("jacobi")).back();
+  EXPECT_EQ(j["cg_multigrid_solves"], 0);
+  EXPECT_GT(j["cg_iterations"].get<long>(), 2 * a[1]["cg_iterations"].get<long>());
+  ASSERT_EQ(tear("run " + scene + " -o " + path("part") + coarse + " --frames 2"), 0) << err_;
+  ASSERT_EQ(tear("run " + scene + " -o " + path("part") + coarse + " --resume --frames 4"), 0)
+      << err_;
+  EXPECT_EQ(read_file(path("full/frames/00004.ply")), read_file(path("part/frames/00004.ply")));
+}
+
 // Crack fields: a run resumed half way gives the same bits (the partition is recomputed every
 // step from the state; its scratch is not part of a checkpoint), and they change the result.
 TEST_F(Cli, CrackFieldsResumeBitIdentically) {

@@ -427,6 +427,10 @@ std::vector<BrokenScene> broken_scenes() {
       patched("ImplicitIterationsZero", R"({"implicit": {"max_iterations": 0}})",
               "implicit.max_iterations: must be in [1, 1000], got 0"),
       patched("ImplicitTypo", R"({"implicit": {"cg_tol": 0.1}})", "implicit.cg_tol"),
+      patched("ImplicitPreconditionerUnknown", R"({"implicit": {"preconditioner": "amg"}})",
+              "implicit.preconditioner"),
+      patched("ImplicitMultigridAfterZero", R"({"implicit": {"multigrid_after": 0}})",
+              "implicit.multigrid_after: must be in [1, 1e6], got 0"),
       // --- inextensibility
       patched("RelaxationWithoutInextensible",
               R"({"materials": {"jelly": {"inextensibility_relaxation": 1e5}}})",
