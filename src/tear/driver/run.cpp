@@ -325,9 +325,37 @@ int check_scene(const std::string& scene_path, const std::vector<std::string>& o
       if (y.surface == YieldSurface::DruckerPrager)
         out << ", Drucker-Prager plasticity (friction " << y.friction << ", cohesion term "
             << y.cohesion_term << (y.volume_correction ? ", volume correction" : "") << ")";
+      if (m.inextensibility.enabled) {
+        out << ", inextensible fibers";
+        if (m.inextensibility.relaxation > 0)
+          out << " (relaxed: a fiber of " << m.inextensibility.relaxation << " Pa)";
+      }
       out << "\n";
       if (m.damage.enabled) print_crack_onset(out, s, m);
     }
+    if (s.integrator == Integrator::Implicit) {
+      const NewtonSettings& n = s.newton;
+      out << "integrator implicit (backward Euler): Newton to " << n.tolerance
+          << " dx/dt, at most " << n.max_iterations << " a step; CG to " << n.cg_tolerance
+          << ", preconditioner ";
+      if (s.implicit_preconditioner == ImplicitPreconditioner::Auto)
+        out << "auto (Jacobi; multigrid once a solve passes " << n.cg_escalate_after
+            << " iterations)\n";
+      else
+        out << (s.implicit_preconditioner == ImplicitPreconditioner::Multigrid ? "multigrid"
+                                                                               : "Jacobi")
+            << "\n";
+    } else {
+      out << "integrator explicit (symplectic Euler)\n";
+    }
+    if (std::any_of(s.materials.begin(), s.materials.end(),
+                    [](const MaterialSpec& m) { return m.inextensibility.enabled; }))
+      out << "inextens.  projection after each grid update: CG to " << s.inextensibility.tolerance
+          << ", "
+          << (s.inextensibility.preconditioner == InextensibilityPreconditioner::Cholesky
+                  ? "Cholesky"
+                  : "Jacobi")
+          << " preconditioner\n";
     if (s.damage.solver != DamageSolver::None) {
       out << "cracking   "
           << (s.damage.solver == DamageSolver::Explicit ? "explicit" : "implicit")
