@@ -7,6 +7,9 @@
 #include "tear/driver/run.h"
 #include "tear/scene/scene.h"
 
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <CLI/CLI.hpp>
 
 #include <iostream>
@@ -102,6 +105,14 @@ struct RenderArgs {
 }  // namespace
 
 int main(int argc, char** argv) {
+#ifdef __GLIBC__
+  // A step allocates and frees scratch arrays of several MiB (grid-sized tables, the implicit
+  // solve's Hessian, the inextensibility rows). glibc would hand each back to the kernel and
+  // fault its pages in again on the next step: half the run time of the inextensible disk tear
+  // (11.1 s -> 5.4 s for 3 frames). Keep freed memory in the process instead.
+  mallopt(M_MMAP_THRESHOLD, 1 << 30);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+#endif
   CLI::App app{"tear: anisotropic tearing and fracture with the Material Point Method"};
   app.set_version_flag("--version", std::string("tear ") + TEAR_VERSION);
   app.require_subcommand(1);
