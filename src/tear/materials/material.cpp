@@ -1,5 +1,6 @@
 #include "tear/materials/material.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
@@ -87,6 +88,9 @@ StressDerivative<Dim> projected_stress_derivative(const MaterialParams& m, const
                                                   const Mat<Dim>& D, Real g) {
   const StressDerivative<Dim> A = stress_derivative<Dim>(m, F, D, g);
   const StressDerivative<Dim> sym = (A + A.transpose()) / 2;
+  // Positive definite already (most particles near rest): its own projection. The Cholesky
+  // test costs a fraction of the eigen-decomposition.
+  if (Eigen::LLT<StressDerivative<Dim>>(sym).info() == Eigen::Success) return sym;
   Eigen::SelfAdjointEigenSolver<StressDerivative<Dim>> eig(sym);
   const auto values = eig.eigenvalues().cwiseMax(Real(0));
   return eig.eigenvectors() * values.asDiagonal() * eig.eigenvectors().transpose();

@@ -21,7 +21,7 @@ struct NewtonSettings {
   int cg_max_iterations = 1000;
   // > 0: a linear solve still short of cg_tolerance after this many iterations switches to the
   // problem's stronger preconditioner, where it offers one, and goes on from where it stopped.
-  int cg_escalate_after = 100;
+  int cg_escalate_after = 200;
 };
 
 struct NewtonResult {
