@@ -3,6 +3,7 @@
 
 #include "scene_test_util.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -210,6 +211,42 @@ TEST(FiberFrame, RandomIsDeterministicAndSpread) {
   }
   EXPECT_LT((mean / n).norm(), 0.05);
   EXPECT_NE(fiber_frame_at<2>(f, Vec3d::Zero(), 1), fiber_frame_at<2>(f, Vec3d::Zero(), 2));
+}
+
+// spread: each particle's a1 turned by a random angle within the bound, deterministically from
+// its key, the angles filling the range (2D: both signs; 3D: all around a1), frames proper.
+TEST(FiberFrame, SpreadTurnsFibersWithinItsBound) {
+  for (const double spread : {5.0, 30.0}) {
+    FiberSpec f;
+    f.a1 = Vec3d(1, 2, 2).normalized();
+    f.spread = spread;
+    const double bound = spread * 3.14159265358979 / 180;
+    double largest2 = 0, smallest2 = 0, largest3 = 0;
+    Vec3d mean3 = Vec3d::Zero();
+    const int n = 4000;
+    for (int k = 0; k < n; ++k) {
+      const Mat<3> D = fiber_frame_at<3>(f, Vec3d::Zero(), uint64_t(k));
+      expect_proper_frame<3>(D);
+      EXPECT_EQ(D, fiber_frame_at<3>(f, Vec3d::Ones(), uint64_t(k)));
+      const Vec3d a = D.col(0).cast<double>();
+      const double t3 = std::acos(std::clamp(a.dot(f.a1), -1.0, 1.0));
+      EXPECT_LE(t3, bound + 1e-9);
+      largest3 = std::max(largest3, t3);
+      mean3 += a - a.dot(f.a1) * f.a1;
+      FiberSpec f2 = f;
+      f2.a1 = Vec3d(1, 2, 0).normalized();
+      const Vec<2> b = fiber_frame_at<2>(f2, Vec3d::Zero(), uint64_t(k)).col(0);
+      const double t2 = std::atan2(f2.a1.x() * b.y() - f2.a1.y() * b.x(),
+                                   f2.a1.x() * b.x() + f2.a1.y() * b.y());
+      EXPECT_LE(std::abs(t2), bound + 1e-9);
+      largest2 = std::max(largest2, t2);
+      smallest2 = std::min(smallest2, t2);
+    }
+    EXPECT_GT(largest3, 0.95 * bound);
+    EXPECT_GT(largest2, 0.95 * bound);
+    EXPECT_LT(smallest2, -0.95 * bound);
+    EXPECT_LT((mean3 / n).norm(), 0.05 * bound);  // no preferred side
+  }
 }
 
 TEST(FiberFrame, SampledTubeHasCircumferentialFibers) {

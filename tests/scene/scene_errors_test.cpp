@@ -427,6 +427,8 @@ std::vector<BrokenScene> broken_scenes() {
       patched("ImplicitIterationsZero", R"({"implicit": {"max_iterations": 0}})",
               "implicit.max_iterations: must be in [1, 1000], got 0"),
       patched("ImplicitTypo", R"({"implicit": {"cg_tol": 0.1}})", "implicit.cg_tol"),
+      patched("FiberSpreadTooLarge", sphere_object(R"(, "fibers": {"spread": 120})"),
+              "objects[0].fibers.spread: must be in [0, 90] degrees, got 120"),
       patched("ImplicitPreconditionerUnknown", R"({"implicit": {"preconditioner": "amg"}})",
               "implicit.preconditioner"),
       patched("ImplicitMultigridAfterZero", R"({"implicit": {"multigrid_after": 0}})",

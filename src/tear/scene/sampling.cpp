@@ -110,6 +110,19 @@ Mat<Dim> fiber_frame_at(const FiberSpec& f, const Vec3d& p, uint64_t random_key)
   if (Dim == 2) a1.z() = 0;
   if (!(a1.norm() > 0)) a1 = Vec3d::UnitX();
   a1.normalize();
+  if (f.spread > 0) {
+    Rng rng(hash_combine(random_key, 0x5B7EADull));
+    const double u = rng.uniform(), v = rng.uniform(), max = f.spread * kPi / 180;
+    if (Dim == 2) {
+      const double t = (2 * u - 1) * max, c = std::cos(t), s = std::sin(t);
+      a1 = Vec3d(c * a1.x() - s * a1.y(), s * a1.x() + c * a1.y(), 0);
+    } else {
+      const Vec3d e1 = any_orthogonal(a1), e2 = a1.cross(e1);
+      const double phi = 2 * kPi * v, t = u * max;
+      a1 = std::cos(t) * a1 + std::sin(t) * (std::cos(phi) * e1 + std::sin(phi) * e2);
+    }
+    a1.normalize();
+  }
 
   Mat<Dim> D;
   if constexpr (Dim == 2) {
@@ -270,6 +283,7 @@ Particles<Dim> sample_scene(const Scene& scene) {
         }
       if (pts && !pts->material.empty()) material = pts->material[size_t(point)];
       FiberSpec own;  // flow, from_file: the point's own fibers, framed as a constant field
+      own.spread = fibers->spread;
       if (fibers->type == FiberField::Flow) {
         own.a1 = flows[cell.object]->direction(p, fibers->a1);
         own.has_a2 = fibers->has_a2, own.a2 = fibers->a2;

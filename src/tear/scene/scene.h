@@ -46,6 +46,9 @@ struct FiberSpec {
   // to be held (0: two grid cells). a1 is the direction where the flow does not reach.
   std::vector<Vec3d> sources, sinks;
   double flow_radius = 0;
+  // > 0: each particle's a1 turned by a random angle up to this many degrees (2D: uniform in
+  // [-spread, spread]; 3D: uniform in [0, spread] towards a random perpendicular direction).
+  double spread = 0;
 };
 
 struct MaterialSpec {

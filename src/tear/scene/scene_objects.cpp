@@ -38,13 +38,17 @@ json parse_fibers(const Reader& r, const json& obj, const std::string& opath, co
                        "from_file"},
                       0);
   if (type == 5)
-    r.object(*j, path, {"type", "a1", "a2", "sources", "sinks", "radius"});
+    r.object(*j, path, {"type", "a1", "a2", "sources", "sinks", "radius", "spread"});
   else
-    r.object(*j, path, {"type", "a1", "a2", "center", "axis"});
+    r.object(*j, path, {"type", "a1", "a2", "center", "axis", "spread"});
   f->type = FiberField(type);
   const char* names[] = {"constant", "radial",   "circumferential", "longitudinal",
                          "random",   "flow",     "from_file"};
   json out = {{"type", names[int(f->type)]}};
+  f->spread = r.number(*j, path, "spread", 0.0);
+  r.check(f->spread >= 0 && f->spread <= 90, key_path(path, "spread"),
+          "must be in [0, 90] degrees, got " + num_str(f->spread));
+  out["spread"] = f->spread;
 
   Vec3d a1 = r.vec(*j, path, "a1", Vec3d::UnitX());
   r.check(a1.norm() > 0, key_path(path, "a1"), "must be non-zero");
