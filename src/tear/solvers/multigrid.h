@@ -13,7 +13,7 @@
 // the V-cycle symmetric, and Gauss-Seidel converges for any symmetric positive definite A, so
 // the cycle is a symmetric positive definite operator: a valid CG preconditioner. The coarsest
 // level is solved by a sparse Cholesky factorisation. Measured against l1-Jacobi smoothing on
-// the implicit integrator's Hessian (fiber_scale 50, dt 40x the explicit limit): 15, 19, 27
+// the implicit integrator's Hessian (fiber_scale 50, dt 40x the explicit limit): 14, 20, 27
 // CG iterations as dx halves twice, against 65, 104, 236.
 #pragma once
 
