@@ -99,6 +99,7 @@ class IncrementalPotential {
   std::unique_ptr<LatticeMultigrid<Dim>> multigrid_;
   bool use_multigrid_ = false;  // multigrid at the next prepare_hessian
   int multigrid_solves_ = 0;
+  int multigrid_age_ = 0;  // Newton iterations the hierarchy has served
   mutable Eigen::VectorXd mg_r_, mg_z_;
   mutable std::vector<double> block_scratch_;
   mutable std::vector<int> neighbour_scratch_;
