@@ -215,14 +215,13 @@ void IncrementalPotential<Dim>::prepare_hessian(const std::vector<Real>& v) {
 
 template <int Dim>
 void IncrementalPotential<Dim>::build_multigrid() {
-  const SparseGrid<Dim>& grid = state_.grid;
-  std::vector<IVec<Dim>> points(mass_.size());
+  const std::vector<IVec<Dim>> points = node_coords();
   std::vector<double> free(mass_.size() * Dim * Dim);
   parallel_for(mass_.size(), [&](size_t node) {
-    points[node] = grid.node_coord(int(node));
     for (int e = 0; e < Dim * Dim; ++e) free[node * Dim * Dim + size_t(e)] = free_[node](e);
   });
-  multigrid_ = std::make_unique<LatticeMultigrid<Dim>>(points, Dim, 2, hessian_matrix(), free);
+  multigrid_ =
+      std::make_unique<LatticeMultigrid<Dim>>(points, Dim, 2, assemble_hessian(points), free);
   multigrid_age_ = 0;
 }
 
@@ -235,19 +234,27 @@ void IncrementalPotential<Dim>::strengthen_preconditioner() {
 }
 
 template <int Dim>
+std::vector<IVec<Dim>> IncrementalPotential<Dim>::node_coords() const {
+  std::vector<IVec<Dim>> coord(mass_.size());
+  parallel_for(coord.size(), [&](size_t node) { coord[node] = state_.grid.node_coord(int(node)); });
+  return coord;
+}
+
+template <int Dim>
 Eigen::SparseMatrix<double, Eigen::RowMajor> IncrementalPotential<Dim>::hessian_matrix() const {
+  return assemble_hessian(node_coords());
+}
+
+template <int Dim>
+Eigen::SparseMatrix<double, Eigen::RowMajor> IncrementalPotential<Dim>::assemble_hessian(
+    const std::vector<IVec<Dim>>& coord) const {
   // Blocks between a node and the nodes within two cells of it (5 per axis), accumulated over
   // the particles, one colour of home blocks at a time (deterministic like scatter).
   constexpr int kReach = Dim == 2 ? 25 : 125;
   constexpr int kBlock = Dim * Dim;
-  const SparseGrid<Dim>& grid = state_.grid;
   const size_t nn = mass_.size();
-  std::vector<IVec<Dim>> coord(nn);
-  parallel_for(nn, [&](size_t node) { coord[node] = grid.node_coord(int(node)); });
-  std::vector<double>& blocks = block_scratch_;  // kept between calls: no new pages each time
-  std::vector<int>& neighbour = neighbour_scratch_;
-  blocks.assign(nn * kReach * kBlock, 0.0);
-  neighbour.assign(nn * kReach, -1);
+  std::vector<double> blocks(nn * kReach * kBlock, 0.0);
+  std::vector<int> neighbour(nn * kReach, -1);
   const double dt2 = double(dt_) * double(dt_);
   scatter([&](size_t k) {
     const StressDerivative<Dim>& A = hessian_[k];

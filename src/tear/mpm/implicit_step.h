@@ -96,13 +96,14 @@ class IncrementalPotential {
   std::vector<Mat<Dim>> free_;  // per node: projection onto the unconstrained directions
   mutable std::vector<Real> scratch_;
   void build_multigrid();
+  std::vector<IVec<Dim>> node_coords() const;  // each grid node's integer coordinates
+  Eigen::SparseMatrix<double, Eigen::RowMajor> assemble_hessian(
+      const std::vector<IVec<Dim>>& coord) const;
   std::unique_ptr<LatticeMultigrid<Dim>> multigrid_;
   bool use_multigrid_ = false;  // multigrid at the next prepare_hessian
   int multigrid_solves_ = 0;
   int multigrid_age_ = 0;  // Newton iterations the hierarchy has served
   mutable Eigen::VectorXd mg_r_, mg_z_;
-  mutable std::vector<double> block_scratch_;
-  mutable std::vector<int> neighbour_scratch_;
 };
 
 }  // namespace tear
