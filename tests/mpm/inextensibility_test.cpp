@@ -187,7 +187,10 @@ void expect_schur_matrix_matches_the_operator() {
     w[n] = grid.mass[n] > 0 ? Vec<Dim>(w[n] / grid.mass[n]) : Vec<Dim>::Zero().eval();
   fc.constraint(zero, &c0);
   fc.constraint(w, &c1);
-  const Eigen::VectorXd y = S * x;
+  // Only the lower triangle is stored.
+  for (int j = 0; j < S.outerSize(); ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(S, j); it; ++it) EXPECT_GE(it.row(), j);
+  const Eigen::VectorXd y = S.selfadjointView<Eigen::Lower>() * x;
   double worst = 0, scale = 0;
   for (size_t z = 0; z < mu.size(); ++z) {
     if (index[z] < 0) continue;

@@ -246,8 +246,8 @@ Eigen::SparseMatrix<double> FiberConstraints<Dim>::schur_matrix(std::vector<int>
   for (size_t z = 0; z < rows; ++z)
     if (diag_[z] > 0) (*index)[z] = n_active++;
   // Each active row's entries: rows whose cells are within 3 of its cell on every axis share
-  // nodes with it. Built row by row (columns sorted), then taken as a column-major matrix: S
-  // is symmetric.
+  // nodes with it. S is symmetric: only its lower triangle is built (what the factorisation
+  // reads), row by row (columns sorted), then taken as a column-major matrix.
   constexpr int kReach = 7, kNear = Dim == 2 ? 49 : 343;
   std::vector<std::vector<std::pair<int, double>>> entries(static_cast<size_t>(n_active));
   parallel_for(rows, [&](size_t z) {
@@ -274,14 +274,14 @@ Eigen::SparseMatrix<double> FiberConstraints<Dim>::schur_matrix(std::vector<int>
       for_each_offset<Dim>(4, [&](const IVec<Dim>& b) {
         int k = 0;
         for (int d = Dim - 1; d >= 0; --d) k = k * kReach + (a[d] - b[d] + 3);
-        if (near[size_t(k)] < 0) return;
+        if (near[size_t(k)] < iz) return;  // none there, or above the diagonal
         const size_t zy = size_t(near_row[size_t(k)]);
         sum[size_t(k)] += double(coef_[zy][size_t(slot_index<Dim>(b))].dot(w));
       });
     });
     std::vector<std::pair<int, double>>& e = entries[size_t(iz)];
     for (int k = 0; k < kNear; ++k)
-      if (near[size_t(k)] >= 0 && (sum[size_t(k)] != 0 || near[size_t(k)] == iz))
+      if (near[size_t(k)] >= iz && (sum[size_t(k)] != 0 || near[size_t(k)] == iz))
         e.emplace_back(near[size_t(k)], sum[size_t(k)] + (near[size_t(k)] == iz ? compliance_[z] : 0));
     std::sort(e.begin(), e.end());
   });

@@ -74,8 +74,9 @@ class FiberConstraints {
   // CG's figures, and mu in mu_out (when given).
   PcgResult project(std::vector<Vec<Dim>>* v, const InextensibilitySettings& solve,
                     std::vector<Real>* mu_out = nullptr) const;
-  // The Schur complement B m^-1 P B^T + K over the active rows (index[z]: row z's number
-  // there, or -1): what the Cholesky preconditioner factors. Exposed for tests.
+  // The lower triangle of the Schur complement B m^-1 P B^T + K over the active rows
+  // (index[z]: row z's number there, or -1): what the Cholesky preconditioner factors.
+  // Exposed for tests.
   Eigen::SparseMatrix<double> schur_matrix(std::vector<int>* index) const;
   // Each particle's fiber tension mu(x_p) / dt (Pa, a Cauchy stress along a_p: the constraint's
   // force is that of the stress (1 - d) T a a^T), 0 where it takes no part, into its
