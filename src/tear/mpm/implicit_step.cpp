@@ -74,6 +74,11 @@ IncrementalPotential<Dim>::IncrementalPotential(const MpmSettings& settings,
     for (int a = 0; a < Dim; ++a) v_star_[node * Dim + a] = v[a];
     free_[node] = free_directions(contacts, int(node), v);
   });
+  // The residual's mass floor: a hundredth of the mean node mass.
+  size_t massive = 0;
+  for (size_t node = 0; node < nn; ++node) massive += mass_[node] > 0;
+  const double total = deterministic_sum<double>(nn, [&](size_t node) { return double(mass_[node]); });
+  residual_mass_ = massive > 0 ? Real(0.01 * total / double(massive)) : Real(0);
 }
 
 template <int Dim>
@@ -165,7 +170,8 @@ double IncrementalPotential<Dim>::residual(const std::vector<Real>& g) const {
       mass_.size(),
       [&](size_t node) {
         if (!(mass_[node] > 0)) return Real(0);
-        return Eigen::Map<const Vec<Dim>>(&g[node * Dim]).norm() / mass_[node];
+        return Eigen::Map<const Vec<Dim>>(&g[node * Dim]).norm() /
+               std::max(mass_[node], residual_mass_);
       },
       Real(0));
   return double(worst) * double(dt_) / settings_.dx;

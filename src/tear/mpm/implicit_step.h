@@ -44,7 +44,12 @@ class IncrementalPotential {
 
   double energy(const std::vector<Real>& v);
   void gradient(const std::vector<Real>& v, std::vector<Real>& g);
-  // max over nodes of |g_i| / m_i (a velocity error) over dx / dt: Newton's stopping measure.
+  // max over nodes of |g_i| / max(m_i, m_floor) (a velocity error) over dx / dt: Newton's
+  // stopping measure. m_floor is a hundredth of the mean node mass: at nodes that the material
+  // barely reaches (masses down to 1e-8 of a particle's at a body's edge) |g_i| / m_i is
+  // round-off of the stress forces, which no Newton step reduces (a stiff femur stalled there
+  // at 5x the tolerance for 100 iterations); such a node's velocity reaches the particles with
+  // its tiny weight only.
   double residual(const std::vector<Real>& g) const;
   void prepare_hessian(const std::vector<Real>& v);
   void apply_hessian(const std::vector<Real>& d, std::vector<Real>& y) const;
@@ -93,6 +98,7 @@ class IncrementalPotential {
   std::vector<Mat<Dim>> F_;  // F_p(v) of the last evaluation
   std::vector<StressDerivative<Dim>> hessian_;  // projected V0 dP/dF of each particle
   std::vector<Real> mass_, v_star_, diag_;
+  Real residual_mass_ = 0;  // residual(): the mass floor
   std::vector<Mat<Dim>> free_;  // per node: projection onto the unconstrained directions
   mutable std::vector<Real> scratch_;
   void build_multigrid();
