@@ -37,9 +37,12 @@ mkdir -p docs/gallery/paper
 for n in "${names[@]}"; do
   scene=examples/$n.json
   [[ -f $scene ]] || { echo "make_gallery: $scene: no such example" >&2; exit 1; }
-  # Damage where the scene can crack, otherwise the fibers where they are stiffer than the
-  # matrix (a non-zero fiber_scale), otherwise the speed.
-  if grep -q '"sigma_c"' "$scene"; then color=damage
+  # The scene's render.color if it has one; else damage where the scene can crack, otherwise
+  # the fibers where they are stiffer than the matrix (a non-zero fiber_scale), otherwise the
+  # speed.
+  color=$(sed -n 's/.*"color": *"\([a-z_]*\)".*/\1/p' "$scene" | head -1)
+  if [[ -n $color ]]; then :
+  elif grep -q '"sigma_c"' "$scene"; then color=damage
   elif grep -q '"fiber_scale": *\[[^]]*[1-9]' "$scene"; then color=fibers
   else color=velocity; fi
   run=$out/$(basename "$n")
