@@ -118,9 +118,21 @@ TEST_F(Cli, ResumedRunMatchesAnUninterruptedOne) {
   EXPECT_EQ(json::parse(read_file(path("part/scene.json")))["time"]["frames"], 4);
   // Resuming with a changed scene, or where nothing ran, is.
   EXPECT_EQ(tear("run " + s + " -o " + path("part") + " --resume --set materials.jelly.E=600"), 1);
-  EXPECT_NE(err_.find(path("part") + "/scene.json: scene differs from " + s),
+  EXPECT_NE(err_.find(path("part") + "/scene.json: scene differs from " + s +
+                      " at materials.jelly.E (was 500"),
             std::string::npos)
       << err_;
+  EXPECT_NE(err_.find("now 600"), std::string::npos) << err_;
+  EXPECT_EQ(tear("run " + s + " -o " + path("part") + " --resume --set objects.0.ppc=9"), 1);
+  EXPECT_NE(err_.find(" at objects[0].ppc (was 4"), std::string::npos) << err_;
+  // Keys that change no result may change: the description, render, checkpoint_every.
+  ASSERT_EQ(tear("run " + s + " -o " + path("part") +
+                 " -q --resume --frames 5 --set output.checkpoint_every=2 --set "
+                 "description=resumed --set render.width=64"),
+            0)
+      << err_;
+  EXPECT_EQ(count_frames(path("part")), 6);
+  EXPECT_EQ(json::parse(read_file(path("part/scene.json")))["output"]["checkpoint_every"], 2);
   EXPECT_EQ(tear("run " + s + " -o " + path("nothing_here") + " --resume"), 1);
   EXPECT_NE(err_.find("no earlier run"), std::string::npos) << err_;
   EXPECT_FALSE(fs::exists(path("nothing_here")));

@@ -139,12 +139,42 @@ Scene load(const std::string& path, std::vector<std::string> overrides, int fram
   return load_scene(path, overrides, resolution);
 }
 
-// The parts of a resolved scene that a resumed run must keep (time.frames may grow; the render
-// section only changes pictures).
-nlohmann::json without_frames(nlohmann::json j) {
+// The parts of a resolved scene that a resumed run must keep: all but time.frames (it may
+// grow), and the keys that change no simulation result (the description, the render section
+// and how often checkpoints are written).
+nlohmann::json resume_relevant(nlohmann::json j) {
   if (j.contains("time") && j["time"].is_object()) j["time"].erase("frames");
+  if (j.contains("output") && j["output"].is_object()) j["output"].erase("checkpoint_every");
   j.erase("render");
+  j.erase("description");
   return j;
+}
+
+// The first key (as a dotted path, array entries by index) where two JSON values differ, with
+// both values, e.g. "materials.jelly.E (was 500, now 600)"; empty when equal.
+std::string first_difference(const nlohmann::json& was, const nlohmann::json& now,
+                             const std::string& path = "") {
+  if (was == now) return "";
+  const auto at = [&](const std::string& key) { return path.empty() ? key : path + "." + key; };
+  if (was.is_object() && now.is_object()) {
+    for (auto it = was.begin(); it != was.end(); ++it) {
+      if (!now.contains(it.key()))
+        return at(it.key()) + " (was " + it.value().dump() + ", now absent)";
+      const std::string d = first_difference(it.value(), now[it.key()], at(it.key()));
+      if (!d.empty()) return d;
+    }
+    for (auto it = now.begin(); it != now.end(); ++it)
+      if (!was.contains(it.key()))
+        return at(it.key()) + " (was absent, now " + it.value().dump() + ")";
+  }
+  if (was.is_array() && now.is_array() && was.size() == now.size()) {
+    for (size_t i = 0; i < was.size(); ++i) {
+      const std::string d = first_difference(was[i], now[i], path + "[" + std::to_string(i) + "]");
+      if (!d.empty()) return d;
+    }
+  }
+  return (path.empty() ? std::string("the scene") : path) + " (was " + was.dump() + ", now " +
+         now.dump() + ")";
 }
 
 // The stats lines of an earlier run up to and including `frame`.
@@ -190,10 +220,13 @@ int run_scene(const RunOptions& o) {
     if (o.resume) {
       const std::string old_scene = (dir / "scene.json").string();
       if (!fs::exists(old_scene)) return fail(old_scene + ": no earlier run to resume");
-      if (without_frames(nlohmann::json::parse(read_file(old_scene))) !=
-          without_frames(scene.resolved))
-        return fail(old_scene + ": scene differs from " + o.scene_path +
-                    " (only time.frames may change); run without --resume into a fresh folder");
+      const std::string differs =
+          first_difference(resume_relevant(nlohmann::json::parse(read_file(old_scene))),
+                           resume_relevant(scene.resolved));
+      if (!differs.empty())
+        return fail(old_scene + ": scene differs from " + o.scene_path + " at " + differs +
+                    "; a resume may change only time.frames, description, render and "
+                    "output.checkpoint_every; run without --resume into a fresh folder");
       try {
         sim->decode_checkpoint(read_file(checkpoint_path));
       } catch (const std::exception& e) {
