@@ -138,6 +138,61 @@ TEST_F(Cli, ResumedRunMatchesAnUninterruptedOne) {
   EXPECT_FALSE(fs::exists(path("nothing_here")));
 }
 
+// Checkpoints carry a checksum; a resume whose latest checkpoint is damaged (a flipped bit, cut
+// short) or missing (a kill between setting the last one aside and writing the new one) falls
+// back to checkpoints/previous.bin, says so, and still ends bit-identical to an uninterrupted
+// run. Where both are bad, or the format version differs, it is refused with the reasons.
+TEST_F(Cli, DamagedCheckpointFallsBackToThePreviousOne) {
+  const std::string s = write_scene(scene());  // a checkpoint every frame
+  ASSERT_EQ(tear("run " + s + " -o " + path("full") + " -q"), 0) << err_;
+  const std::string full = read_file(path("full/frames/00004.ply"));
+  const auto interrupted = [&](const std::string& name) {
+    EXPECT_EQ(tear("run " + s + " -o " + path(name) + " -q --frames 3"), 0) << err_;
+    EXPECT_TRUE(fs::exists(path(name + "/checkpoints/previous.bin")));
+    return path(name + "/checkpoints/latest.bin");
+  };
+  const auto flip_bit = [](const std::string& file) {
+    std::string b = read_file(file);
+    b[b.size() / 2] ^= 4;
+    write_file_atomic(file, b);
+  };
+  const auto resumes_from_previous = [&](const std::string& name, const std::string& reason) {
+    ASSERT_EQ(tear("run " + s + " -o " + path(name) + " --resume"), 0) << err_;
+    EXPECT_NE(err_.find(reason), std::string::npos) << err_;
+    EXPECT_NE(err_.find("resuming from " + path(name) + "/checkpoints/previous.bin (frame 2)"),
+              std::string::npos)
+        << err_;
+    EXPECT_EQ(read_file(path(name + "/frames/00004.ply")), full) << name;
+  };
+  flip_bit(interrupted("flipped"));
+  resumes_from_previous("flipped", "latest.bin: damaged: its checksum does not match");
+  EXPECT_TRUE(fs::exists(path("flipped/checkpoints/damaged.bin")));
+  const std::string cut = interrupted("cut");
+  write_file_atomic(cut, read_file(cut).substr(0, 1000));
+  resumes_from_previous("cut", "latest.bin: damaged");
+  fs::remove(interrupted("killed"));
+  resumes_from_previous("killed", "latest.bin");
+
+  const std::string both = interrupted("both");
+  flip_bit(both);
+  flip_bit(path("both/checkpoints/previous.bin"));
+  EXPECT_EQ(tear("run " + s + " -o " + path("both") + " --resume"), 1);
+  EXPECT_NE(err_.find("latest.bin: damaged"), std::string::npos) << err_;
+  EXPECT_NE(err_.find("previous.bin: damaged"), std::string::npos) << err_;
+  const std::string old = interrupted("old");
+  fs::remove(path("old/checkpoints/previous.bin"));
+  std::string b = read_file(old);
+  b[7] = '8';
+  write_file_atomic(old, b);
+  EXPECT_EQ(tear("run " + s + " -o " + path("old") + " --resume"), 1);
+  EXPECT_NE(err_.find("checkpoint format version 8, this tear reads version 9"),
+            std::string::npos)
+      << err_;
+  write_file_atomic(old, "not a checkpoint at all");
+  EXPECT_EQ(tear("run " + s + " -o " + path("old") + " --resume"), 1);
+  EXPECT_NE(err_.find("latest.bin: not a tear checkpoint"), std::string::npos) << err_;
+}
+
 TEST_F(Cli, SetAndFramesOverrideTheScene) {
   const std::string s = write_scene(scene());
   ASSERT_EQ(tear("run " + s + " -o " + path("o") + " -q --frames 2 --set materials.jelly.E=750"

@@ -20,7 +20,9 @@ namespace {
 
 // Checkpoint format: this magic (with its version), then the header below, then each group's
 // state fields as io/field_io.h writes them.
-const std::string kCheckpointMagic = "TEARCKP8";
+// Checkpoints: this magic (its digit is the format's version), the state, and a 64-bit checksum
+// of everything before it (io/binary.h).
+const std::string kCheckpointMagic = "TEARCKP9";
 
 template <int Dim>
 class MpmSimulation final : public Simulation {
@@ -164,13 +166,22 @@ class MpmSimulation final : public Simulation {
     w.put<double>(xs.residual_max);
     w.put<int64_t>(xs.unconverged);
     for (const Particles<Dim>& g : state_.groups) put_fields(g, &w);
+    append_checksum(&w.bytes());
     return std::move(w.bytes());
   }
 
   void decode_checkpoint(const std::string& bytes) override {
-    if (bytes.compare(0, kCheckpointMagic.size(), kCheckpointMagic) != 0)
-      throw std::runtime_error("not a tear checkpoint (or one from another version)");
-    ByteReader r(bytes, kCheckpointMagic.size());
+    const size_t prefix = kCheckpointMagic.size() - 1;  // "TEARCKP", then the version
+    if (bytes.size() < kCheckpointMagic.size() ||
+        bytes.compare(0, prefix, kCheckpointMagic, 0, prefix) != 0)
+      throw std::runtime_error("not a tear checkpoint");
+    if (bytes[prefix] != kCheckpointMagic[prefix])
+      throw std::runtime_error(std::string("checkpoint format version ") + bytes[prefix] +
+                               ", this tear reads version " + kCheckpointMagic[prefix] +
+                               " (written by another version of tear)");
+    if (!checksum_matches(bytes))
+      throw std::runtime_error("damaged: its checksum does not match (truncated or altered)");
+    ByteReader r(bytes, kCheckpointMagic.size(), bytes.size() - sizeof(uint64_t));
     if (r.get<int32_t>() != Dim) throw std::runtime_error("checkpoint of a different dimension");
     if (r.get<int32_t>() != int32_t(sizeof(Real)))
       throw std::runtime_error("checkpoint written with a different precision (TEAR_FLOAT)");

@@ -199,6 +199,15 @@ std::string size_text(double bytes) {
   return buf;
 }
 
+// Writes a checkpoint. The one before becomes checkpoints/previous.bin first, so that a complete
+// checkpoint is on disk at every moment: a run killed between the two steps leaves
+// previous.bin, and --resume falls back to it.
+void write_checkpoint(const std::string& latest, const std::string& previous,
+                      const std::string& bytes) {
+  if (fs::exists(latest)) fs::rename(latest, previous);
+  write_file_atomic(latest, bytes);
+}
+
 }  // namespace
 
 int run_scene(const RunOptions& o) {
@@ -214,6 +223,7 @@ int run_scene(const RunOptions& o) {
     const fs::path dir(o.out_dir);
     const std::string stats_path = (dir / "stats.jsonl").string();
     const std::string checkpoint_path = (dir / "checkpoints" / "latest.bin").string();
+    const std::string previous_path = (dir / "checkpoints" / "previous.bin").string();
     std::vector<std::string> stats;
     std::map<int, double> vtu_times;  // for frames.pvd
 
@@ -227,10 +237,31 @@ int run_scene(const RunOptions& o) {
         return fail(old_scene + ": scene differs from " + o.scene_path + " at " + differs +
                     "; a resume may change only time.frames, description, render and "
                     "output.checkpoint_every; run without --resume into a fresh folder");
+      // The latest checkpoint, or the one before it where the latest is missing or damaged
+      // (set aside as checkpoints/damaged.bin, so that the next checkpoint cannot push the
+      // good one out).
+      std::string latest_error;
       try {
         sim->decode_checkpoint(read_file(checkpoint_path));
       } catch (const std::exception& e) {
-        return fail(checkpoint_path + ": " + e.what());
+        latest_error = checkpoint_path + ": " + e.what();
+      }
+      if (!latest_error.empty()) {
+        if (!fs::exists(previous_path)) return fail(latest_error);
+        sim = make_simulation(scene);
+        try {
+          sim->decode_checkpoint(read_file(previous_path));
+        } catch (const std::exception& e) {
+          return fail(latest_error + "; " + previous_path + ": " + e.what());
+        }
+        if (fs::exists(checkpoint_path))
+          fs::rename(checkpoint_path, (dir / "checkpoints" / "damaged.bin").string());
+        std::fprintf(stderr,
+                     "tear: warning: %s; resuming from %s (frame %d) instead%s\n",
+                     latest_error.c_str(), previous_path.c_str(), sim->frame(),
+                     fs::exists(dir / "checkpoints" / "damaged.bin")
+                         ? " (the damaged one is kept as checkpoints/damaged.bin)"
+                         : "");
       }
       if (sim->frame() >= scene.frames) {
         std::printf("%s: already complete (%d frames)\n", o.out_dir.c_str(), sim->frame());
@@ -300,7 +331,7 @@ int run_scene(const RunOptions& o) {
       write_lines_atomic(stats_path, stats);
       if ((scene.checkpoint_every > 0 && frame % scene.checkpoint_every == 0) ||
           frame == scene.frames)
-        write_file_atomic(checkpoint_path, sim->encode_checkpoint());
+        write_checkpoint(checkpoint_path, previous_path, sim->encode_checkpoint());
       output_s += seconds_since(output_start);
       progress.update(frame, sim->time(), sim->total_steps() - steps_before);
     }
