@@ -20,23 +20,8 @@ MpmSim<Dim> spinning_block(Transfer transfer) {
   Scene s = basic_scene(Dim, 0.05, Vec3d::Zero(), Vec3d::Constant(2.0), Model::QrAniso, 1e3,
                         0.3, 1, 3);
   s.transfer = transfer;
-  Vec<Dim> lo = Vec<Dim>::Constant(Real(0.7)), hi = Vec<Dim>::Constant(Real(1.2));
-  const Vec<Dim> c = (lo + hi) / 2;
-  auto vel = [&](const Vec<Dim>& x) {
-    Vec<Dim> v = Vec<Dim>::Constant(Real(0.3));
-    v[0] += -Real(2) * (x[1] - c[1]);  // spin about z
-    v[1] += Real(2) * (x[0] - c[0]);
-    return v;
-  };
-  Particles<Dim> p = lattice_block<Dim>(s, lo, hi, 2, vel);
-  // Rotate the fibers so the block is anisotropic in a generic direction.
-  for (auto& D : p.fiber) {
-    if constexpr (Dim == 2) {
-      D = Eigen::Rotation2D<Real>(Real(0.4)).toRotationMatrix();
-    } else {
-      D = Eigen::AngleAxis<Real>(Real(0.4), Vec<3>(1, 2, 3).normalized()).toRotationMatrix();
-    }
-  }
+  Particles<Dim> p = testing::spinning_block<Dim>(s, Vec<Dim>::Constant(Real(0.7)),
+                                                  Vec<Dim>::Constant(Real(1.2)));
   return MpmSim<Dim>(s, std::move(p));
 }
 

@@ -450,22 +450,8 @@ void expect_implicit_momentum(double* linear, double angular[3]) {
     // short of it at round-off (counted, not asserted); the momentum figures say how close.
     s.newton.tolerance = 1e-8;
     const Real half = Dim == 2 ? Real(0.25) : Real(0.15);  // 10 or 6 cells across
-    const Vec<Dim> lo = Vec<Dim>::Constant(Real(0.95) - half);
-    const Vec<Dim> hi = Vec<Dim>::Constant(Real(0.95) + half);
-    const Vec<Dim> c = (lo + hi) / 2;
-    Particles<Dim> p = lattice_block<Dim>(s, lo, hi, 2, [&](const Vec<Dim>& x) {
-      Vec<Dim> v = Vec<Dim>::Constant(Real(0.3));
-      v[0] += -Real(2) * (x[1] - c[1]);
-      v[1] += Real(2) * (x[0] - c[0]);
-      return v;
-    });
-    for (auto& D : p.fiber) {
-      if constexpr (Dim == 2) {
-        D = Eigen::Rotation2D<Real>(Real(0.4)).toRotationMatrix();
-      } else {
-        D = Eigen::AngleAxis<Real>(Real(0.4), Vec<3>(1, 2, 3).normalized()).toRotationMatrix();
-      }
-    }
+    Particles<Dim> p = testing::spinning_block<Dim>(s, Vec<Dim>::Constant(Real(0.95) - half),
+                                                    Vec<Dim>::Constant(Real(0.95) + half));
     MpmSim<Dim> sim(s, std::move(p));
     const int steps = 20 << k;  // 0.042 s at 10 / 2^k times the explicit limit (2.1e-4)
     const double dt = 0.042 / steps;

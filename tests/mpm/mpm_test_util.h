@@ -127,6 +127,28 @@ Particles<Dim> lattice_block(const Scene& s, const Vec<Dim>& lo, const Vec<Dim>&
   return p;
 }
 
+// A spinning, translating block filling [lo, hi] (2 x 2 (x 2) particles a cell): velocity
+// 0.3 along every axis plus a spin of 2 rad/s about z through its centre; fibers turned 0.4 rad
+// (about z in 2D, about (1, 2, 3) in 3D) so that it is anisotropic in a generic direction.
+template <int Dim>
+Particles<Dim> spinning_block(const Scene& s, const Vec<Dim>& lo, const Vec<Dim>& hi) {
+  const Vec<Dim> c = (lo + hi) / 2;
+  Particles<Dim> p = lattice_block<Dim>(s, lo, hi, 2, [&](const Vec<Dim>& x) {
+    Vec<Dim> v = Vec<Dim>::Constant(Real(0.3));
+    v[0] += -Real(2) * (x[1] - c[1]);
+    v[1] += Real(2) * (x[0] - c[0]);
+    return v;
+  });
+  for (auto& D : p.fiber) {
+    if constexpr (Dim == 2) {
+      D = Eigen::Rotation2D<Real>(Real(0.4)).toRotationMatrix();
+    } else {
+      D = Eigen::AngleAxis<Real>(Real(0.4), Vec<3>(1, 2, 3).normalized()).toRotationMatrix();
+    }
+  }
+  return p;
+}
+
 // A fixed-free bar along x (length 1 from x = 0.25, 4 cells high, 2x2 particles a cell, E, nu
 // = 0, rho = 1), clamped by a sticky box over x <= 0.25 and released in its first
 // longitudinal mode with peak speed 1e-3 c: it rings at sqrt(E_eff / rho) / 4.

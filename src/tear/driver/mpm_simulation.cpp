@@ -18,10 +18,9 @@ namespace tear {
 
 namespace {
 
-// Checkpoint format: this magic (with its version), then the header below, then each group's
-// state fields as io/field_io.h writes them.
-// Checkpoints: this magic (its digit is the format's version), the state, and a 64-bit checksum
-// of everything before it (io/binary.h).
+// Checkpoint format: this magic (its digit is the format's version), then the header below,
+// then each group's state fields as io/field_io.h writes them, then a 64-bit checksum of
+// everything before it (io/binary.h).
 const std::string kCheckpointMagic = "TEARCKP9";
 
 template <int Dim>

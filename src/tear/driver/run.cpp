@@ -254,14 +254,11 @@ int run_scene(const RunOptions& o) {
         } catch (const std::exception& e) {
           return fail(latest_error + "; " + previous_path + ": " + e.what());
         }
-        if (fs::exists(checkpoint_path))
-          fs::rename(checkpoint_path, (dir / "checkpoints" / "damaged.bin").string());
-        std::fprintf(stderr,
-                     "tear: warning: %s; resuming from %s (frame %d) instead%s\n",
+        const bool set_aside = fs::exists(checkpoint_path);
+        if (set_aside) fs::rename(checkpoint_path, dir / "checkpoints" / "damaged.bin");
+        std::fprintf(stderr, "tear: warning: %s; resuming from %s (frame %d) instead%s\n",
                      latest_error.c_str(), previous_path.c_str(), sim->frame(),
-                     fs::exists(dir / "checkpoints" / "damaged.bin")
-                         ? " (the damaged one is kept as checkpoints/damaged.bin)"
-                         : "");
+                     set_aside ? " (the damaged one is kept as checkpoints/damaged.bin)" : "");
       }
       if (sim->frame() >= scene.frames) {
         std::printf("%s: already complete (%d frames)\n", o.out_dir.c_str(), sim->frame());

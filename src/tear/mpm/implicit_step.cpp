@@ -77,7 +77,8 @@ IncrementalPotential<Dim>::IncrementalPotential(const MpmSettings& settings,
   // The residual's mass floor: a hundredth of the mean node mass.
   size_t massive = 0;
   for (size_t node = 0; node < nn; ++node) massive += mass_[node] > 0;
-  const double total = deterministic_sum<double>(nn, [&](size_t node) { return double(mass_[node]); });
+  const double total =
+      deterministic_sum<double>(nn, [&](size_t node) { return double(mass_[node]); });
   residual_mass_ = massive > 0 ? Real(0.01 * total / double(massive)) : Real(0);
 }
 
