@@ -28,9 +28,15 @@ if ((${#missing[@]})); then
   DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq "${missing[@]}"
 fi
 
-echo "== building (Release) in ./build"
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build
+# The demo needs the tear executable only; the tests and benchmarks are built by `test`.
+if [[ $mode == demo ]]; then
+  echo "== building tear (Release) in ./build"
+  cmake --build build --target tear_cli
+else
+  echo "== building tear, its tests and benchmarks (Release) in ./build"
+  cmake --build build
+fi
 
 case "$mode" in
   demo)

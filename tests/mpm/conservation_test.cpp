@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 #include "tear/exec/threads.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <cstring>
 
@@ -165,6 +167,37 @@ TEST(Stability, BlowUpIsReportedAsAnErrorNotACrash) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("unstable"), std::string::npos) << e.what();
   }
+}
+
+// The guard the driver runs after every step: the particle with the lowest id among those that
+// are non-finite or at the domain's edge, whatever the order particles are stored in and for
+// any number of threads.
+TEST(Stability, ParticleFaultNamesTheLowestIdAndItsKind) {
+  MpmSim<3> sim = spinning_block<3>(Transfer::Apic);
+  Particles<3>& p = sim.particles();
+  ASSERT_FALSE(find_particle_fault(sim.settings(), sim.state()));
+  ASSERT_GT(p.size(), 100u);
+  // Ids are not memory positions: reverse the storage order.
+  std::reverse(p.id.begin(), p.id.end());
+  const size_t a = 17, b = p.size() - 40;  // ids size-18 and 39
+  p.v[a][1] = std::numeric_limits<Real>::quiet_NaN();
+  p.x[b][2] = Real(sim.settings().domain_max[2] - sim.settings().dx);  // on the kept box's face
+  for (int threads : {1, 2}) {
+    ThreadLimit limit(threads);
+    const ParticleFault f = find_particle_fault(sim.settings(), sim.state());
+    ASSERT_TRUE(f);
+    EXPECT_EQ(f.index, b);
+    EXPECT_EQ(f.id, p.id[b]);
+    EXPECT_EQ(f.kind, ParticleFault::Kind::LeftDomain);
+    EXPECT_EQ(f.material, p.material[b]);
+  }
+  p.x[b] = p.x[b + 1];  // back inside: the NaN is next
+  const ParticleFault f = find_particle_fault(sim.settings(), sim.state());
+  EXPECT_EQ(f.id, p.id[a]);
+  EXPECT_EQ(f.kind, ParticleFault::Kind::NonFinite);
+  EXPECT_TRUE(std::isnan(f.v[1]));
+  p.v[a][1] = std::numeric_limits<Real>::infinity();
+  EXPECT_EQ(find_particle_fault(sim.settings(), sim.state()).kind, ParticleFault::Kind::NonFinite);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include "tear/driver/mesh_frames.h"
 #include "tear/driver/render_frames.h"
 #include "tear/driver/run.h"
+#include "tear/exec/memory.h"
 #include "tear/scene/scene.h"
 
 #ifdef __GLIBC__
@@ -117,7 +118,9 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("tear ") + TEAR_VERSION);
   app.require_subcommand(1);
   app.footer("Exit codes: 0 success, 1 bad input or a failed run (one line on stderr),\n"
-             "2 command-line usage error. Documentation: docs/cli.md");
+             "2 command-line usage error, 3 the simulation blew up, 130/143 stopped by\n"
+             "SIGINT/SIGTERM after writing a checkpoint (--resume continues).\n"
+             "Documentation: docs/cli.md, docs/long-runs.md");
 
   tear::RunOptions run;
   CLI::App* run_cmd = app.add_subcommand("run", "Simulate a scene; write frames and statistics");
@@ -137,7 +140,20 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--resolution", run.resolution, resolution_help)
       ->check(CLI::PositiveNumber);
   run_cmd->add_flag("-q,--quiet", run.quiet, "No progress line");
-  run_cmd->add_flag("--resume", run.resume, "Continue the run in --out from its checkpoint");
+  run_cmd->add_flag("--resume", run.resume,
+                    "Continue the run in --out from its checkpoint (from frame 0 if it has none)");
+  std::string max_memory;
+  run_cmd->add_option("--max-memory", max_memory,
+                      "Refuse a run whose memory estimate (tear check) is larger: 16G, 512M, ... "
+                      "(0: no limit; default: 90% of this machine's memory)")
+      ->check([](const std::string& text) {
+        try {
+          tear::parse_size(text);
+          return std::string();
+        } catch (const std::exception& e) {
+          return std::string(e.what());
+        }
+      });
   CLI::Option* render_flag = run_cmd->add_flag(
       "--render", run.render,
       "Render each written frame into DIR/render/ and make DIR/preview.mp4 (options as for "
@@ -253,6 +269,7 @@ int main(int argc, char** argv) {
 
   if (*run_cmd) {
     run.render_options = run_render.overrides();
+    if (!max_memory.empty()) run.max_memory = tear::parse_size(max_memory);
     return tear::run_scene(run);
   }
   if (*render_cmd) {

@@ -11,6 +11,16 @@
 
 namespace tear {
 
+// What `tear` exits with (docs/long-runs.md "Exit codes").
+enum ExitCode : int {
+  kExitOk = 0,
+  kExitError = 1,     // bad input, a failed write, a refused resume: one line on stderr
+  kExitUsage = 2,     // command-line usage (CLI11)
+  kExitUnstable = 3,  // the simulation blew up: a particle non-finite or out of the domain
+  kExitInterrupted = 130,  // stopped by SIGINT after writing a checkpoint (128 + 2)
+  kExitTerminated = 143,   // stopped by SIGTERM after writing a checkpoint (128 + 15)
+};
+
 // Prints "tear: reason" on stderr (line breaks become spaces) and returns `code`.
 int fail(std::string why, int code = 1);
 

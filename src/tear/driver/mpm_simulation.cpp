@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <limits>
 
 namespace tear {
@@ -31,6 +32,18 @@ class MpmSimulation final : public Simulation {
         frame_dt_(scene.frame_dt),
         state_(make_mpm_state<Dim>(settings_, sample_scene<Dim>(scene))),
         start_(std::chrono::steady_clock::now()) {
+    for (const MaterialSpec& m : scene.materials) material_names_.push_back(m.name);
+    if (const ParticleFault f = find_particle_fault(settings_, state_)) {
+      char x[96];
+      std::snprintf(x, sizeof(x), "(%.6g, %.6g, %.6g)", f.x[0], f.x[1], f.x[2]);
+      throw std::runtime_error(
+          "particle " + std::to_string(f.id) + " (material " + material_name(f.material) +
+          ") starts at " + x +
+          (f.kind == ParticleFault::Kind::LeftDomain
+               ? ", not inside the grid's domain less one cell (dx) at each face, where "
+                 "particles are kept; move the object inward or enlarge grid.domain_min/max"
+               : ", not a finite position or velocity"));
+    }
     // The optional frame columns the scene asks for (output.fields).
     for (Particles<Dim>& g : state_.groups)
       for (const std::string& name : scene.output_fields) g.enable(name);
@@ -53,14 +66,16 @@ class MpmSimulation final : public Simulation {
     dt_min_ = std::min(dt_min_, dt);
     dt_max_ = std::max(dt_max_, dt);
     ++steps_since_stats_;
+    if (const ParticleFault f = find_particle_fault(settings_, state_)) throw unstable(f, dt);
     return dt;
   }
 
   // Steps of estimate_dt(); the step that would cross the frame time is shortened to land
   // on it exactly (ARCHITECTURE.md "One explicit step").
-  void advance_frame() override {
+  bool advance_frame(const std::atomic<bool>* stop) override {
     const double target = double(frame_ + 1) * frame_dt_;
     while (state_.time < target) {
+      if (stop && stop->load()) return false;
       const double remaining = target - state_.time;
       const double dt = estimate_dt();
       if (dt >= remaining * (1 - 1e-9)) {
@@ -71,6 +86,7 @@ class MpmSimulation final : public Simulation {
       }
     }
     ++frame_;
+    return true;
   }
 
   FrameStats collect_stats() override {
@@ -257,7 +273,34 @@ class MpmSimulation final : public Simulation {
   }
 
  private:
+  std::string material_name(uint16_t m) const {
+    return m < material_names_.size() ? material_names_[m] : "?";
+  }
+
+  // "frame 4, step 812: particle 1234 (material jelly) ...".
+  UnstableRun unstable(const ParticleFault& f, double dt) const {
+    const bool left = f.kind == ParticleFault::Kind::LeftDomain;
+    char where[256];
+    std::snprintf(where, sizeof(where), "x (%.6g, %.6g, %.6g), v (%.6g, %.6g, %.6g)", f.x[0],
+                  f.x[1], f.x[2], f.v[0], f.v[1], f.v[2]);
+    const std::string material = material_name(f.material);
+    char step[96];
+    std::snprintf(step, sizeof(step), "frame %d, step %ld (dt %.3g s)", frame_ + 1, state_.steps,
+                  dt);
+    const std::string text = std::string(left ? "the run stopped in " : "the simulation "
+                                                "became unstable in ") +
+                             step + ": particle " + std::to_string(f.id) + " (material " +
+                             material + ") ";
+    if (left)
+      return UnstableRun(text + "left the domain at " + where +
+                         "; enlarge grid.domain_min/domain_max, or keep it in with grid.walls "
+                         "or a collider");
+    return UnstableRun(text + "has a non-finite " + where +
+                       "; lower time.cfl or time.max_dt, or check the material's parameters");
+  }
+
   MpmSettings settings_;
+  std::vector<std::string> material_names_;
   double frame_dt_;
   MpmState<Dim> state_;
   StepRecord record_;

@@ -3,6 +3,7 @@
 #include "tear/damage/driving_force.h"
 #include "tear/driver/command.h"
 #include "tear/driver/convert.h"
+#include "tear/exec/memory.h"
 #include "tear/exec/phase_timer.h"
 #include "tear/exec/threads.h"
 #include "tear/io/atomic_file.h"
@@ -18,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -28,6 +30,9 @@
 #include <sstream>
 #include <type_traits>
 
+#include <csignal>
+
+#include <signal.h>
 #include <unistd.h>
 
 namespace tear {
@@ -36,6 +41,46 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 namespace {
+
+// A graceful stop (docs/long-runs.md): SIGINT and SIGTERM set `stop_requested`; the run finishes
+// the step in progress, writes a checkpoint and exits 130 or 143. The handlers are installed
+// with SA_RESETHAND, so a second signal ends the process at once (the last checkpoint stays).
+std::atomic<bool> stop_requested{false};
+volatile std::sig_atomic_t stop_signal = 0;
+static_assert(std::atomic<bool>::is_always_lock_free, "set from a signal handler");
+
+void on_stop_signal(int sig) {
+  stop_signal = sig;
+  stop_requested.store(true);
+  static const char kText[] =
+      "\ntear: stopping after this step to write a checkpoint (signal again to quit at once)\n";
+  const ssize_t written = ::write(STDERR_FILENO, kText, sizeof(kText) - 1);
+  (void)written;
+}
+
+// The handlers for the life of one run; the ones before are restored after it.
+class StopSignals {
+ public:
+  StopSignals() {
+    stop_requested = false;
+    stop_signal = 0;
+    struct sigaction a {};
+    a.sa_handler = on_stop_signal;
+    sigemptyset(&a.sa_mask);
+    a.sa_flags = SA_RESETHAND;
+    sigaction(SIGINT, &a, &old_int_);
+    sigaction(SIGTERM, &a, &old_term_);
+  }
+  ~StopSignals() {
+    sigaction(SIGINT, &old_int_, nullptr);
+    sigaction(SIGTERM, &old_term_, nullptr);
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+
+ private:
+  struct sigaction old_int_ {}, old_term_ {};
+};
 
 // The frame in every format the scene asks for; with vtu, DIR/frames.pvd lists it at its time
 // (recorded in `vtu_times`, the times of the frames written before). Returns the frame's table
@@ -189,16 +234,6 @@ std::vector<std::string> stats_up_to(const std::string& path, int frame) {
   return kept;
 }
 
-// "812 KiB", "3.4 MiB": sizes for people.
-std::string size_text(double bytes) {
-  const char* units[] = {"B", "KiB", "MiB", "GiB", "TiB"};
-  int u = 0;
-  while (bytes >= 1024 && u < 4) bytes /= 1024, ++u;
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), u == 0 || bytes >= 100 ? "%.0f %s" : "%.1f %s", bytes, units[u]);
-  return buf;
-}
-
 // Writes a checkpoint. The one before becomes checkpoints/previous.bin first, so that a complete
 // checkpoint is on disk at every moment: a run killed between the two steps leaves
 // previous.bin, and --resume falls back to it.
@@ -208,15 +243,39 @@ void write_checkpoint(const std::string& latest, const std::string& previous,
   write_file_atomic(latest, bytes);
 }
 
+// For an error message once a checkpoint of the run is on disk.
+std::string kept_text(const Simulation& sim) {
+  return "; the last good checkpoint (frame " + std::to_string(sim.frame()) + ", t = " +
+         time_text(sim.time()) + ") is kept: --resume continues from it";
+}
+
+// The run's folders where an interrupted write may have left a temporary.
+void remove_stale_temporaries_in(const fs::path& dir) {
+  for (const char* sub : {"", "frames", "checkpoints", "render", "meshes"})
+    remove_stale_temporaries((dir / sub).string());
+}
+
 }  // namespace
 
 int run_scene(const RunOptions& o) {
+  // What an error message adds once the run has written a checkpoint.
+  std::string kept;
   try {
     const auto limit = limit_threads(o.threads);
+    const StopSignals signals;
     const Clock::time_point start = Clock::now();
     // Everything that can be wrong with the input is found before anything is written.
     const Scene scene = load(o.scene_path, o.overrides, o.frames, o.resolution);
     std::unique_ptr<Simulation> sim = make_simulation(scene);
+    const double memory = double(sim->memory_bytes());
+    const double max_memory = o.max_memory >= 0 ? o.max_memory : 0.9 * physical_memory_bytes();
+    if (max_memory > 0 && memory > max_memory)
+      return fail(o.scene_path + ": the run needs about " + size_text(memory) +
+                  " (tear check), more than " +
+                  (o.max_memory >= 0 ? "--max-memory " : "90 % of this machine's memory, ") +
+                  size_text(max_memory) +
+                  "; coarsen the scene (grid.dx, objects[].ppc, --resolution) or set "
+                  "--max-memory (0: no limit)");
     std::unique_ptr<RunRenderer> renderer;
     if (o.render)
       renderer = std::make_unique<RunRenderer>(o.out_dir, scene, o.render_options, o.threads);
@@ -227,8 +286,9 @@ int run_scene(const RunOptions& o) {
     std::vector<std::string> stats;
     std::map<int, double> vtu_times;  // for frames.pvd
 
-    if (o.resume) {
-      const std::string old_scene = (dir / "scene.json").string();
+    const std::string old_scene = (dir / "scene.json").string();
+    bool resume = o.resume;
+    if (resume) {
       if (!fs::exists(old_scene)) return fail(old_scene + ": no earlier run to resume");
       const std::string differs =
           first_difference(resume_relevant(nlohmann::json::parse(read_file(old_scene))),
@@ -237,6 +297,16 @@ int run_scene(const RunOptions& o) {
         return fail(old_scene + ": scene differs from " + o.scene_path + " at " + differs +
                     "; a resume may change only time.frames, description, render and "
                     "output.checkpoint_every; run without --resume into a fresh folder");
+      if (!fs::exists(checkpoint_path) && !fs::exists(previous_path)) {
+        // Stopped before its first checkpoint: the same scene again from the start.
+        std::fprintf(stderr, "tear: %s has no checkpoint yet; starting from frame 0\n",
+                     o.out_dir.c_str());
+        resume = false;
+      }
+    }
+    // What a killed run was writing (".NAME.tmp.PID"): never a file the run reads.
+    remove_stale_temporaries_in(dir);
+    if (resume) {
       // The latest checkpoint, or the one before it where the latest is missing or damaged
       // (set aside as checkpoints/damaged.bin, so that the next checkpoint cannot push the
       // good one out).
@@ -260,6 +330,7 @@ int run_scene(const RunOptions& o) {
                      latest_error.c_str(), previous_path.c_str(), sim->frame(),
                      set_aside ? " (the damaged one is kept as checkpoints/damaged.bin)" : "");
       }
+      kept = kept_text(*sim);
       if (sim->frame() >= scene.frames) {
         std::printf("%s: already complete (%d frames)\n", o.out_dir.c_str(), sim->frame());
         return 0;
@@ -297,20 +368,36 @@ int run_scene(const RunOptions& o) {
     bool warned_unconverged = false;
     // Where the run's time goes (the summary line at the end).
     double setup_s = seconds_since(start), stepping_s = 0, stats_s = 0, output_s = 0;
+    // Checkpoints keep the previous one until the new one is complete; `kept` tells an error
+    // message which frame a --resume would continue from.
+    auto checkpoint = [&] {
+      write_checkpoint(checkpoint_path, previous_path, sim->encode_checkpoint());
+      kept = kept_text(*sim);
+    };
+    // A stop requested by a signal: checkpoint where the run is (mid-frame too) and say so.
+    auto stop = [&](bool checkpoint_written) {
+      if (!checkpoint_written) checkpoint();
+      const int sig = stop_signal;
+      std::fprintf(stderr,
+                   "tear: stopped by %s at t = %s (%d of %d frames done); checkpoint written: "
+                   "continue with --resume\n",
+                   sig == SIGTERM ? "SIGTERM" : "SIGINT", time_text(sim->time()).c_str(),
+                   sim->frame(), scene.frames);
+      return sig == SIGTERM ? kExitTerminated : kExitInterrupted;
+    };
     while (sim->frame() < scene.frames) {
+      bool frame_done;
       {
         PhaseTimer timer(&stepping_s);
-        sim->advance_frame();
+        frame_done = sim->advance_frame(&stop_requested);
       }
+      if (!frame_done) return stop(false);
       const int frame = sim->frame();
       const auto stats_start = Clock::now();
       FrameStats s = sim->collect_stats();
       stats_s += seconds_since(stats_start);
       const auto output_start = Clock::now();
       s.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
-      if (!std::isfinite(s.kinetic_energy) || !std::isfinite(s.momentum.norm()))
-        return fail("the simulation became unstable at frame " + std::to_string(frame) +
-                    " (non-finite velocities); lower time.cfl or time.max_dt");
       if (s.damage_unconverged > 0 && !warned_unconverged) {
         std::fprintf(stderr,
                      "tear: warning: frame %d: %ld implicit damage solve(s) stopped at "
@@ -326,11 +413,13 @@ int run_scene(const RunOptions& o) {
       }
       stats.push_back(s.to_json().dump());
       write_lines_atomic(stats_path, stats);
-      if ((scene.checkpoint_every > 0 && frame % scene.checkpoint_every == 0) ||
-          frame == scene.frames)
-        write_checkpoint(checkpoint_path, previous_path, sim->encode_checkpoint());
+      const bool checkpointed =
+          (scene.checkpoint_every > 0 && frame % scene.checkpoint_every == 0) ||
+          frame == scene.frames;
+      if (checkpointed) checkpoint();
       output_s += seconds_since(output_start);
       progress.update(frame, sim->time(), sim->total_steps() - steps_before);
+      if (stop_requested && frame < scene.frames) return stop(checkpointed);
     }
     const double wall = std::chrono::duration<double>(Clock::now() - start).count();
     std::printf("wrote %d frames (%zu particles, %ld steps) to %s in %.1f s\n", scene.frames,
@@ -347,11 +436,13 @@ int run_scene(const RunOptions& o) {
                 stepping_s, phases.c_str(), output_s, renderer ? " and rendering" : "", stats_s,
                 setup_s);
     if (renderer) std::printf("%s\n", renderer->finish().c_str());
-    return 0;
+    return kExitOk;
+  } catch (const UnstableRun& e) {
+    return fail(e.what() + kept, kExitUnstable);
   } catch (const std::exception& e) {
-    return fail(e.what());
+    return fail(e.what() + kept);
   } catch (...) {
-    return fail("unknown error");
+    return fail("unknown error" + kept);
   }
 }
 

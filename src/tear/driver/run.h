@@ -22,10 +22,15 @@ struct RunOptions {
   bool resume = false;                 // continue DIR's run from its checkpoint
   bool render = false;                 // --render: DIR/render/NNNNN.png per frame, preview.mp4
   RenderOverrides render_options;      // with --render
+  // --max-memory in bytes: refuse a run whose memory estimate (tear check's) is larger; 0: no
+  // limit; < 0: 90 % of the machine's physical memory.
+  double max_memory = -1;
 };
 
-// `tear run`. Returns the exit code; errors are one line "tear: reason" on stderr. An invalid
-// scene writes nothing; a fresh run replaces the outputs of an earlier run in the folder.
+// `tear run`. Returns the exit code (ExitCode, driver/command.h); errors are one line
+// "tear: reason" on stderr. An invalid scene writes nothing; a fresh run replaces the outputs
+// of an earlier run in the folder. SIGINT and SIGTERM stop it after the step in progress with a
+// checkpoint (docs/long-runs.md).
 int run_scene(const RunOptions& options);
 
 // `tear check`: validate the scene and print what a run would do. Returns the exit code.

@@ -10,7 +10,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <atomic>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -55,6 +57,14 @@ struct FrameStats {
   nlohmann::json to_json() const;
 };
 
+// Thrown by Simulation::step when a particle's position or velocity is no longer finite or a
+// particle left the domain: the message names the frame, the step, the particle's id, material,
+// position and velocity, and what to change.
+class UnstableRun : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 class Simulation {
  public:
   virtual ~Simulation() = default;
@@ -63,9 +73,12 @@ class Simulation {
   virtual int frame() const = 0;  // frames completed (0 = initial state)
   virtual double time() const = 0;
   virtual long total_steps() const = 0;
-  // Advance to the next frame time, landing on it exactly.
-  virtual void advance_frame() = 0;
-  // Advance by exactly one step (no larger than `dt_cap`); returns the dt taken.
+  // Advance to the next frame time, landing on it exactly, and return true; or, once `*stop`
+  // (if given) is set, return false after the step in progress: a checkpoint written then
+  // resumes mid-frame bit-identically.
+  virtual bool advance_frame(const std::atomic<bool>* stop = nullptr) = 0;
+  // Advance by exactly one step (no larger than `dt_cap`); returns the dt taken. Throws
+  // UnstableRun if the step left a particle non-finite or outside the domain.
   virtual double step(double dt_cap) = 0;
   // Stable time step estimate for the current state, and what limits it.
   virtual double estimate_dt() const = 0;

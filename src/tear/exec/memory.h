@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <string>
 
 namespace tear {
 
@@ -25,5 +26,16 @@ void reserve_large(V* v, size_t n) {
   v->reserve(std::max(n, 2 * v->capacity()));
   advise_huge_pages(v->data(), v->capacity() * sizeof(typename V::value_type));
 }
+
+// Bytes of physical memory of this machine (0 if unknown).
+double physical_memory_bytes();
+
+// "812 KiB", "3.4 MiB": sizes for people.
+std::string size_text(double bytes);
+
+// A size as people write it: "2G", "512M", "1.5GiB", "800k", "1000000" (bytes; K, M, G, T are
+// powers of 1024, with or without "B" or "iB", any case). Throws std::invalid_argument with
+// the reason for anything else, a negative or a non-finite size.
+double parse_size(const std::string& text);
 
 }  // namespace tear

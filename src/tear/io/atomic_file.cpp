@@ -2,6 +2,7 @@
 
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
@@ -19,6 +20,20 @@ std::runtime_error os_error(const std::string& path, const char* what, int err) 
   return std::runtime_error(path + ": " + what + ": " + std::strerror(err));
 }
 
+// TEAR_TEST_FAIL_WRITE (see the header): 0, or the errno a write to `path` must fail with.
+int injected_failure(const std::string& path) {
+  const char* env = std::getenv("TEAR_TEST_FAIL_WRITE");
+  if (!env || !*env) return 0;
+  std::string text = env;
+  int err = ENOSPC;
+  const size_t comma = text.rfind(',');
+  if (comma != std::string::npos) {
+    if (text.compare(comma + 1, std::string::npos, "EACCES") == 0) err = EACCES;
+    text.resize(comma);
+  }
+  return path.find(text) != std::string::npos ? err : 0;
+}
+
 }  // namespace
 
 // The temporary sits in the target's folder, so rename() stays on one file system and is
@@ -30,12 +45,18 @@ void write_file_atomic(const std::string& path, const std::string& bytes) {
     throw std::runtime_error("'" + path + "': cannot write: not a file name");
   const fs::path temp = target.parent_path() / ("." + target.filename().string() + ".tmp." +
                                                 std::to_string(::getpid()));
-  std::FILE* f = std::fopen(temp.c_str(), "wb");
-  if (!f) throw os_error(path, "cannot write", errno);
+  const int injected = injected_failure(path);
+  std::FILE* f = injected == EACCES ? nullptr : std::fopen(temp.c_str(), "wb");
+  if (!f) throw os_error(path, "cannot write", injected ? injected : errno);
   int err = 0;
   errno = 0;
-  if (std::fwrite(bytes.data(), 1, bytes.size(), f) != bytes.size() || std::fflush(f) != 0)
+  if (injected) {
+    std::fwrite(bytes.data(), 1, bytes.size() / 2, f);
+    err = injected;
+  } else if (std::fwrite(bytes.data(), 1, bytes.size(), f) != bytes.size() ||
+             std::fflush(f) != 0) {
     err = errno ? errno : EIO;
+  }
   if (std::fclose(f) != 0 && err == 0) err = errno ? errno : EIO;
   if (err != 0) {
     std::remove(temp.c_str());
@@ -46,6 +67,21 @@ void write_file_atomic(const std::string& path, const std::string& bytes) {
     std::remove(temp.c_str());
     throw os_error(path, "cannot replace", err);
   }
+}
+
+int remove_stale_temporaries(const std::string& dir) {
+  std::error_code ec;
+  int removed = 0;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    const size_t tmp = name.rfind(".tmp.");
+    const bool ours = name.size() > 1 && name[0] == '.' && tmp != std::string::npos &&
+                      tmp + 5 < name.size() &&
+                      name.find_first_not_of("0123456789", tmp + 5) == std::string::npos;
+    if (ours && e.is_regular_file(ec) && fs::remove(e.path(), ec))
+      ++removed;
+  }
+  return removed;
 }
 
 void write_lines_atomic(const std::string& path, const std::vector<std::string>& lines) {

@@ -7,9 +7,17 @@
 
 namespace tear {
 
-// Write `bytes` to `path` atomically (temp file in the same folder + rename). Throws
-// std::runtime_error naming the path and the system's reason on failure.
+// Write `bytes` to `path` atomically (temp file ".NAME.tmp.PID" in the same folder + rename).
+// Throws std::runtime_error naming the path and the system's reason on failure, and leaves no
+// temporary behind. For tests of what a run does when the disk fails: where the environment
+// variable TEAR_TEST_FAIL_WRITE is "TEXT" or "TEXT,EACCES", a write to a path containing TEXT
+// fails as the disk being full (half the bytes written, then ENOSPC) or permission denied (at
+// the open).
 void write_file_atomic(const std::string& path, const std::string& bytes);
+
+// Removes the temporaries write_file_atomic leaves when the process is killed mid-write
+// (".NAME.tmp.PID" files) from folder `dir`; returns how many. A missing folder has none.
+int remove_stale_temporaries(const std::string& dir);
 
 // Each line followed by '\n', written atomically (stats.jsonl is rewritten every frame).
 void write_lines_atomic(const std::string& path, const std::vector<std::string>& lines);

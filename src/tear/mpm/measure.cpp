@@ -5,6 +5,7 @@
 #include "tear/mpm/phases.h"
 
 #include <algorithm>
+#include <cstdint>
 
 namespace tear {
 
@@ -133,13 +134,52 @@ StateFigures reduce_figures(const StateFigures& local, const Domain& domain) {
   return s;
 }
 
+template <int Dim>
+ParticleFault find_particle_fault(const MpmSettings& settings, const MpmState<Dim>& state) {
+  // The same box as G2P's clamp: a particle on its faces was pushed back onto it.
+  Vec<Dim> lo, hi;
+  for (int d = 0; d < Dim; ++d) {
+    lo[d] = Real(settings.domain_min[d] + settings.dx);
+    hi[d] = Real(settings.domain_max[d] - settings.dx);
+  }
+  auto fault_kind = [&](const Particles<Dim>& p, size_t i) {
+    if (!p.x[i].allFinite() || !p.v[i].allFinite()) return 2;
+    if ((p.x[i].array() <= lo.array()).any() || (p.x[i].array() >= hi.array()).any()) return 1;
+    return 0;
+  };
+  ParticleFault fault;
+  for (size_t g = 0; g < state.groups.size(); ++g) {
+    const Particles<Dim>& p = state.groups[g];
+    // One pass for "is there one" (the common answer is no), the lowest id only then.
+    if (!parallel_any(p.size(), [&](size_t i) { return fault_kind(p, i) != 0; })) continue;
+    const int64_t lowest = -parallel_max<int64_t>(
+        p.size(), [&](size_t i) { return fault_kind(p, i) ? -int64_t(p.id[i]) : INT64_MIN; },
+        INT64_MIN);
+    for (size_t i = 0; i < p.size(); ++i) {
+      if (int64_t(p.id[i]) != lowest) continue;
+      if (fault && p.id[i] >= fault.id) break;  // an earlier group's is lower
+      fault.group = int(g);
+      fault.index = i;
+      fault.id = p.id[i];
+      fault.material = p.material[i];
+      fault.kind = fault_kind(p, i) == 2 ? ParticleFault::Kind::NonFinite
+                                         : ParticleFault::Kind::LeftDomain;
+      fault.x.head<Dim>() = p.x[i].template cast<double>();
+      fault.v.head<Dim>() = p.v[i].template cast<double>();
+      break;
+    }
+  }
+  return fault;
+}
+
 #define TEAR_MEASURE_INSTANTIATE(D)                                                 \
   template double total_mass<D>(const MpmState<D>&);                                \
   template Vec3d total_momentum<D>(const MpmState<D>&);                             \
   template Vec3d total_angular_momentum<D>(const MpmSettings&, const MpmState<D>&); \
   template double kinetic_energy<D>(const MpmState<D>&);                            \
   template double elastic_energy<D>(const MpmSettings&, const MpmState<D>&);        \
-  template StateFigures measure_state<D>(const MpmSettings&, const MpmState<D>&);
+  template StateFigures measure_state<D>(const MpmSettings&, const MpmState<D>&);        \
+  template ParticleFault find_particle_fault<D>(const MpmSettings&, const MpmState<D>&);
 TEAR_MEASURE_INSTANTIATE(2)
 TEAR_MEASURE_INSTANTIATE(3)
 #undef TEAR_MEASURE_INSTANTIATE

@@ -28,6 +28,23 @@ StateFigures measure_state(const MpmSettings& settings, const MpmState<Dim>& sta
 // shares of all particles).
 StateFigures reduce_figures(const StateFigures& local, const Domain& domain);
 
+// A particle that went wrong: its position or velocity is not finite (the run blew up), or it
+// reached the domain's edge (particles are held one cell inside the domain; one that gets there
+// left it). The one with the lowest id, so the same for any thread count. `group` < 0: none.
+struct ParticleFault {
+  enum class Kind { NonFinite, LeftDomain };
+  int group = -1;
+  size_t index = 0;
+  uint32_t id = 0;
+  uint16_t material = 0;
+  Kind kind = Kind::NonFinite;
+  Vec3d x = Vec3d::Zero(), v = Vec3d::Zero();
+  explicit operator bool() const { return group >= 0; }
+};
+
+template <int Dim>
+ParticleFault find_particle_fault(const MpmSettings& settings, const MpmState<Dim>& state);
+
 // The parts, for tests.
 template <int Dim>
 double total_mass(const MpmState<Dim>& state);
