@@ -155,6 +155,35 @@ TEST(Bgeo, HugePointCountIsRejectedBeforeAllocating) {
   EXPECT_NE(decode_error(b).find("truncated"), std::string::npos) << decode_error(b);
 }
 
+// A points-only BGEO of no points and one float attribute `name` of `size` components.
+std::string bgeo_with_attribute(const std::string& name, int size) {
+  std::string b = "BgeoV";
+  auto be = [&](uint32_t v, int bytes) {
+    for (int k = bytes - 1; k >= 0; --k) b += char(v >> (8 * k) & 255);
+  };
+  be(5, 4);
+  for (int k = 0; k < 8; ++k) be(k == 4 ? 1 : 0, 4);  // 0 points, 1 point attribute
+  be(uint32_t(name.size()), 2);
+  b += name;
+  be(uint32_t(size), 2);
+  be(0, 4);                                      // float
+  for (int k = 0; k < size; ++k) be(0, 4);       // defaults
+  return b + std::string("\x00\xff", 2);
+}
+
+// Found by fuzzing (tests/fuzz): each column was checked against every earlier one, so an
+// attribute of 30000 components took minutes; a long name of many components also made as many
+// long names. Now a hash set, and limits with clear errors.
+TEST(Bgeo, WideAttributesAreReadQuicklyWithinLimits) {
+  const PointTable t = decode_bgeo(bgeo_with_attribute("w", int(kMaxColumns) - 3));
+  EXPECT_EQ(t.names.size(), kMaxColumns);
+  EXPECT_EQ(t.names.back(), "w_" + std::to_string(kMaxColumns - 4));
+  EXPECT_EQ(decode_error(bgeo_with_attribute("w", 30000)),
+            "bad BGEO: attribute 'w' of 30000 components makes more than 4096 columns");
+  EXPECT_EQ(decode_error(bgeo_with_attribute(std::string(2000, 'n'), 2)),
+            "bad BGEO: an attribute name of 2000 bytes (at most 1024)");
+}
+
 TEST(Bgeo, EncodeNeedsPositionAndDistinctNames) {
   PointTable t;
   t.count = 1;

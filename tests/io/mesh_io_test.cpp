@@ -140,6 +140,17 @@ TEST(MeshIo, PlyErrorsNameTheReason) {
             "data");
 }
 
+// Found by fuzzing (tests/fuzz): the rows of an element without properties were stepped through
+// one by one, so a declared count of 10^18 hung the reader. They hold nothing and are skipped.
+TEST(MeshIo, PlyRowsWithoutPropertiesAreSkippedHoweverMany) {
+  const TriMesh m = decode_mesh_ply(
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nelement marker 999999999999999999\nelement face 1\n"
+      "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  EXPECT_EQ(m.vertices.size(), 3u);
+  EXPECT_EQ(m.triangles.size(), 1u);
+}
+
 TEST(MeshIo, EncodersRejectIndicesOutOfRange) {
   TriMesh m = awkward_mesh();
   m.triangles.push_back({0, 1, 4});

@@ -189,6 +189,36 @@ TEST(Ply, RejectsCorruptInputWithTheReason) {
   }
 }
 
+// Found by fuzzing (tests/fuzz): a vertex element of no properties and a huge count made the
+// reader allocate a column of that many rows (8 EB: an allocation failure) and then loop over them.
+TEST(Ply, RowsWithoutPropertiesAreRefusedWithoutAllocating) {
+  EXPECT_EQ(decode_error("ply\nformat ascii 1.0\nelement vertex 999999999999999999\nend_header\n"),
+            "bad PLY: element 'vertex' has 999999999999999999 rows but no properties");
+  EXPECT_EQ(decode_ply("ply\nformat ascii 1.0\nelement vertex 0\nend_header\n").count, 0u);
+}
+
+// Found by fuzzing: an ascii value was kept as written whatever its property's type, so a uchar
+// column could hold 300 or 1.5 (which encode_ply then converted with undefined behaviour) and a
+// float column more digits than a float has (a round trip through encode_ply changed it).
+TEST(Ply, AsciiValuesAreOfTheirPropertysType) {
+  const std::string head = "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n";
+  const PointTable t = decode_ply(head + "property int i\nproperty uchar m\nend_header\n"
+                                         "-2e-3 -2147483648 255\n");
+  EXPECT_EQ(t.column("x")[0], double(-2e-3f));  // rounded to float, as a binary file holds it
+  EXPECT_EQ(t.column("i")[0], -2147483648.0);
+  EXPECT_EQ(t.column("m")[0], 255);
+  EXPECT_EQ(decode_ply(encode_ply(t)).columns, t.columns);
+  EXPECT_EQ(decode_error(head + "property uchar m\nend_header\n0 300\n"),
+            "bad PLY: ascii value '300' at vertex 0, property 'm' is not a uint8");
+  EXPECT_EQ(decode_error(head + "property int i\nend_header\n0 1.5\n"),
+            "bad PLY: ascii value '1.5' at vertex 0, property 'i' is not a int32");
+  EXPECT_EQ(decode_error(head + "property short s\nend_header\n0 nan\n"),
+            "bad PLY: ascii value 'nan' at vertex 0, property 's' is not a int16");
+  EXPECT_EQ(decode_error(head + "end_header\n1e39\n"),
+            "bad PLY: ascii value '1e39' at vertex 0, property 'x' is not a float32");
+  EXPECT_EQ(decode_ply(head + "end_header\ninf\n").column("x")[0], HUGE_VAL);
+}
+
 TEST(Ply, ColumnOfMissingNameThrowsNamingIt) {
   PointTable t;
   t.count = 1;

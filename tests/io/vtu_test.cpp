@@ -190,6 +190,37 @@ TEST(Vtu, DecodeErrorsAreNamed) {
   EXPECT_NE(decode_error(s).find("base64"), std::string::npos) << decode_error(s);
 }
 
+// A document of `points` points at the origin and one ascii point array `w` of `components`.
+std::string vtu_with_array(size_t points, const std::string& components, const std::string& w) {
+  std::string zeros;
+  for (size_t i = 0; i < 3 * points; ++i) zeros += " 0";
+  return "<VTKFile type=\"UnstructuredGrid\"><UnstructuredGrid><Piece NumberOfPoints=\"" +
+         std::to_string(points) + "\"><PointData><DataArray type=\"Float32\" Name=\"w\" " +
+         "NumberOfComponents=\"" + components + "\" format=\"ascii\">" + w +
+         "</DataArray></PointData><Points><DataArray type=\"Float32\" NumberOfComponents=\"3\" "
+         "format=\"ascii\">" + zeros + "</DataArray></Points></Piece></UnstructuredGrid>"
+         "</VTKFile>";
+}
+
+// Found by fuzzing (tests/fuzz): points x NumberOfComponents was compared with the number of
+// values after wrapping around (32 points of 2^59 + 1 components "had" 32 values, then read far
+// outside them: a crash), and 10^8 components of no points made 10^8 column names, each checked
+// against every earlier one (a hang).
+TEST(Vtu, ComponentCountsCannotWrapAroundOrExplode) {
+  std::string ones;
+  for (int i = 0; i < 32; ++i) ones += " 1";
+  EXPECT_EQ(decode_error(vtu_with_array(32, "576460752303423489", ones)),
+            "bad VTU: array 'w' has 576460752303423489 components (at most 4096)");
+  EXPECT_EQ(decode_error(vtu_with_array(0, "100000000", "")),
+            "bad VTU: array 'w' has 100000000 components (at most 4096)");
+  EXPECT_EQ(decode_error(vtu_with_array(0, "4094", "")),
+            "bad VTU: array 'w' of 4094 components makes more than 4096 columns");
+  const PointTable t = decode_vtu(vtu_with_array(0, "4093", ""));
+  EXPECT_EQ(t.names.size(), kMaxColumns);
+  EXPECT_EQ(decode_vtu(vtu_with_array(2, "2", "1 2 3 4")).column("w_1"),
+            (std::vector<double>{2, 4}));
+}
+
 TEST(Pvd, ListsTheVtuFramesInOrderWithTheirTimes) {
   const fs::path dir = fresh_dir("tear_pvd");
   fs::create_directories(dir / "frames");

@@ -136,9 +136,18 @@ PointTable decode_bgeo(const std::string& bytes) {
     size_t size;
   };
   std::vector<Attr> attrs;
+  ColumnNames columns;
+  std::string why;
   auto add_columns = [&](const std::string& name, size_t size, ColumnType type) {
+    // Checked before making the names: a long name of many components would make many long ones.
+    if (name.size() > kMaxColumnName)
+      fail("an attribute name of " + std::to_string(name.size()) + " bytes (at most " +
+           std::to_string(kMaxColumnName) + ")");
+    if (t.names.size() + size > kMaxColumns)
+      fail("attribute '" + name + "' of " + std::to_string(size) + " components makes more than " +
+           std::to_string(kMaxColumns) + " columns");
     for (const std::string& c : attribute_columns(name, int(size), AttributeFormat::Bgeo)) {
-      if (t.has(c)) fail("attribute '" + name + "' gives a second column '" + c + "'");
+      if (!columns.add(c, &why)) fail("attribute '" + name + "' gives " + why);
       t.names.push_back(c);
       t.types.push_back(type);
     }

@@ -70,8 +70,17 @@ size_t fields_bytes(const FieldRegistry& store) {
 }
 
 std::vector<uint32_t> rows_by_id(const std::vector<uint32_t>& id) {
-  std::vector<uint32_t> row(id.size());
-  for (size_t i = 0; i < id.size(); ++i) row[id[i]] = uint32_t(i);
+  constexpr uint32_t kNone = UINT32_MAX;
+  std::vector<uint32_t> row(id.size(), kNone);
+  for (size_t i = 0; i < id.size(); ++i) {
+    // Ids come from checkpoints too: checked, as writing through a bad one corrupts memory.
+    if (id[i] >= id.size() || row[id[i]] != kNone)
+      throw std::runtime_error("particle ids are not a permutation of 0.." +
+                               std::to_string(id.size()) + " - 1: id " + std::to_string(id[i]) +
+                               " at row " + std::to_string(i) +
+                               (id[i] < id.size() ? " appears twice" : " is out of range"));
+    row[id[i]] = uint32_t(i);
+  }
   return row;
 }
 

@@ -186,9 +186,11 @@ TriMesh decode_mesh_ply(const std::string& bytes) {
   PlyBody body(bytes, h, kPlyContext);
   std::vector<int32_t> corners;
   for (const PlyElement& e : h.elements) {
+    // Rows without properties hold nothing: not read one by one, however many are declared.
+    if (e.properties.empty()) continue;
     // Every row takes at least a byte (binary) or two characters (ascii): checked before
     // allocating, so a corrupt count cannot ask for terabytes.
-    if (!e.properties.empty() && e.count > body.remaining())
+    if (e.count > body.remaining())
       ply_fail("truncated: element '" + e.name + "' has " + std::to_string(e.count) +
                " rows, found " + std::to_string(body.remaining()) + " bytes of data");
     if (e.name == "vertex") mesh.vertices.resize(e.count);

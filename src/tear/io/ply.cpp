@@ -86,9 +86,12 @@ PointTable decode_ply(const std::string& bytes) {
   PointTable t;
   t.count = vertex->count;
   size_t row = 0;  // bytes, in binary
+  ColumnNames names;
+  std::string why;
   for (const PlyProperty& p : vertex->properties) {
     if (p.list) fail("list properties are not supported (property '" + p.name + "')");
-    if (t.has(p.name)) fail("property '" + p.name + "' appears twice");
+    if (names.has(p.name)) fail("property '" + p.name + "' appears twice");
+    if (!names.add(p.name, &why)) fail("property '" + p.name + "': " + why);
     t.names.push_back(p.name);
     t.types.push_back(exact_column_type(p.type));
     row += number_size(p.type);
@@ -97,6 +100,9 @@ PointTable decode_ply(const std::string& bytes) {
   // Checked before allocating, so a corrupt count cannot ask for terabytes.
   const size_t available = bytes.size() - h.data_offset;
   const size_t cols = t.names.size();
+  // Rows without values would be a table of no columns: nothing to read, however many.
+  if (cols == 0 && t.count > 0)
+    fail("element 'vertex' has " + std::to_string(t.count) + " rows but no properties");
   if (h.binary && row > 0 && t.count > available / row)
     fail("truncated: " + std::to_string(t.count) + " vertices of " + std::to_string(row) +
          " bytes, found " + std::to_string(available) + " bytes of data");

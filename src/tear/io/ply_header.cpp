@@ -1,7 +1,9 @@
 #include "tear/io/ply_header.h"
 
 #include <cctype>
+#include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -10,22 +12,30 @@ namespace tear {
 namespace {
 
 // PLY's scalar types, under their old and their sized names.
+const struct {
+  const char* old_name;
+  const char* sized_name;
+  NumberType type;
+} kTypes[] = {
+    {"char", "int8", NumberType::Int8},        {"uchar", "uint8", NumberType::UInt8},
+    {"short", "int16", NumberType::Int16},     {"ushort", "uint16", NumberType::UInt16},
+    {"int", "int32", NumberType::Int32},       {"uint", "uint32", NumberType::UInt32},
+    {"float", "float32", NumberType::Float32}, {"double", "float64", NumberType::Float64}};
+
 bool parse_type(const std::string& name, NumberType* type) {
-  static const struct {
-    const char* old_name;
-    const char* sized_name;
-    NumberType type;
-  } kTypes[] = {
-      {"char", "int8", NumberType::Int8},        {"uchar", "uint8", NumberType::UInt8},
-      {"short", "int16", NumberType::Int16},     {"ushort", "uint16", NumberType::UInt16},
-      {"int", "int32", NumberType::Int32},       {"uint", "uint32", NumberType::UInt32},
-      {"float", "float32", NumberType::Float32}, {"double", "float64", NumberType::Float64}};
   for (const auto& t : kTypes)
     if (name == t.old_name || name == t.sized_name) {
       *type = t.type;
       return true;
     }
   return false;
+}
+
+// The sized name of a PLY scalar type.
+const char* type_name(NumberType type) {
+  for (const auto& t : kTypes)
+    if (t.type == type) return t.sized_name;
+  return "?";
 }
 
 }  // namespace
@@ -103,13 +113,41 @@ void PlyBody::truncated(const PlyPlace& at) const {
   ply_fail(context_, "truncated data at " + at.text());
 }
 
-double PlyBody::next_text(const PlyPlace& at) {
+double PlyBody::next_text(NumberType type, const PlyPlace& at) {
   char* end = nullptr;
   const double v = std::strtod(p_, &end);
   if (end == p_ || (*end != '\0' && !std::isspace(static_cast<unsigned char>(*end))))
     ply_fail(context_, "truncated or non-numeric ascii data at " + at.text());
+  const char* text = p_;
   p_ = end;
-  return v;
+  auto not_of_type = [&]() {
+    while (std::isspace(static_cast<unsigned char>(*text))) ++text;
+    const std::string value(text, static_cast<const char*>(end));
+    ply_fail(context_, "ascii value '" + value + "' at " + at.text() + " is not a " +
+                           type_name(type));
+  };
+  switch (type) {
+    case NumberType::Float32:
+      if (std::isfinite(v) && std::fabs(v) > double(std::numeric_limits<float>::max()))
+        not_of_type();
+      return double(float(v));
+    case NumberType::Float64: return v;
+    default: {
+      // Integers: whole, and in range.
+      double lo = 0, hi = 0;
+      switch (type) {
+        case NumberType::Int8: lo = -128, hi = 127; break;
+        case NumberType::UInt8: hi = 255; break;
+        case NumberType::Int16: lo = -32768, hi = 32767; break;
+        case NumberType::UInt16: hi = 65535; break;
+        case NumberType::Int32: lo = -2147483648.0, hi = 2147483647.0; break;
+        case NumberType::UInt32: hi = 4294967295.0; break;
+        default: return v;  // the 64-bit integers are no PLY types
+      }
+      if (!(v >= lo && v <= hi) || v != std::floor(v)) not_of_type();
+      return v;
+    }
+  }
 }
 
 }  // namespace tear

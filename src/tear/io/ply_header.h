@@ -45,7 +45,9 @@ struct PlyPlace {
 };
 
 // The body of a PLY file, value by value, in the header's format; reads past the end are
-// errors that name the value's place.
+// errors that name the value's place. An ascii value must be one of its type, as a binary
+// file's value is: an integer in the type's range, a float rounded to float (an ascii "300" for a
+// uchar or "1.5" for an int is an error, not a value the table's column cannot hold).
 class PlyBody {
  public:
   // `bytes` must outlive the reader.
@@ -56,7 +58,7 @@ class PlyBody {
         context_(context) {}
 
   double next(NumberType type, const PlyPlace& at) {
-    if (!binary_) return next_text(at);
+    if (!binary_) return next_text(type, at);
     const size_t size = number_size(type);
     if (size_t(end_ - p_) < size) truncated(at);
     const double v = load_le_number(type, p_);
@@ -66,7 +68,7 @@ class PlyBody {
   size_t remaining() const { return size_t(end_ - p_); }
 
  private:
-  double next_text(const PlyPlace& at);
+  double next_text(NumberType type, const PlyPlace& at);
   [[noreturn]] void truncated(const PlyPlace& at) const;
 
   const char* p_;  // the next value; *end_ is '\0' (std::string::c_str)

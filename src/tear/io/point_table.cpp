@@ -26,6 +26,19 @@ bool PointTable::has(const std::string &name) const {
   return std::find(names.begin(), names.end(), name) != names.end();
 }
 
+bool ColumnNames::add(const std::string &name, std::string *why) {
+  if (name.size() > kMaxColumnName)
+    *why = "a column name of " + std::to_string(name.size()) + " bytes (at most " +
+           std::to_string(kMaxColumnName) + ")";
+  else if (names_.size() == kMaxColumns)
+    *why = "more than " + std::to_string(kMaxColumns) + " columns";
+  else if (!names_.insert(name).second)
+    *why = "a second column '" + name + "'";
+  else
+    return true;
+  return false;
+}
+
 const std::vector<double> &PointTable::column(const std::string &name) const {
   for (size_t i = 0; i < names.size(); ++i)
     if (names[i] == name) return columns[i];

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <string>
+#include <unordered_set>
 #include <vector>
 
 #include "tear/particles/field.h"  // ColumnType
@@ -27,6 +28,24 @@ struct PointTable {
   // Throws std::runtime_error unless names, types and columns agree in number and every column
   // holds `count` values (what the encoders rely on).
   void check_shape() const;
+};
+
+// Limits of the point readers (PLY, BGEO, VTU), far beyond a frame's few dozen columns of short
+// names: a corrupt count or name length gets a clear error instead of millions of column names.
+constexpr size_t kMaxColumns = 4096;
+constexpr size_t kMaxColumnName = 1024;
+
+// The column names a reader has added to a table so far, checked as they come: unique (looked up
+// in a hash set, so that wide tables read in linear time), at most kMaxColumns of them, each at
+// most kMaxColumnName bytes long.
+class ColumnNames {
+ public:
+  // Adds `name`, or returns false with the reason in `why` ("a second column 'vx'").
+  bool add(const std::string &name, std::string *why);
+  bool has(const std::string &name) const { return names_.count(name) != 0; }
+
+ private:
+  std::unordered_set<std::string> names_;
 };
 
 // Columns x, y and z (0 where the table has no z) as points; none for an empty table. Throws

@@ -385,6 +385,9 @@ PointTable decode_vtu(const std::string& bytes) {
       if (const std::string* c = tag.attr("NumberOfComponents"))
         a.components = count_attribute(*c, "NumberOfComponents of '" + a.name + "'");
       if (a.components == 0) fail("array '" + a.name + "' has 0 components");
+      if (a.components > kMaxColumns)
+        fail("array '" + a.name + "' has " + std::to_string(a.components) +
+             " components (at most " + std::to_string(kMaxColumns) + ")");
       if (tag.attr("offset")) fail("array '" + a.name + "' refers to appended data (not read)");
       const std::string* format = tag.attr("format");
       if (!format) fail("array '" + a.name + "' has no format");
@@ -407,17 +410,29 @@ PointTable decode_vtu(const std::string& bytes) {
 
   PointTable t;
   t.count = points;
+  ColumnNames columns;
+  std::string why;
   auto add = [&](const DataArray& a) {
-    const std::vector<std::string> cols =
-        attribute_columns(a.name, int(a.components), AttributeFormat::Vtu);
-    if (a.values.size() != points * a.components)
+    // Divided, not multiplied: points x components can wrap around.
+    if (a.values.size() % a.components != 0 || a.values.size() / a.components != points)
       fail("array '" + a.name + "' has " + std::to_string(a.values.size()) + " values, expected " +
            std::to_string(points) + " points x " + std::to_string(a.components));
+    // Checked before making the names: a long name of many components would make many long ones.
+    if (a.name.size() > kMaxColumnName)
+      fail("an array name of " + std::to_string(a.name.size()) + " bytes (at most " +
+           std::to_string(kMaxColumnName) + ")");
+    if (t.names.size() + a.components > kMaxColumns)
+      fail("array '" + a.name + "' of " + std::to_string(a.components) +
+           " components makes more than " + std::to_string(kMaxColumns) + " columns");
+    const std::vector<std::string> cols =
+        attribute_columns(a.name, int(a.components), AttributeFormat::Vtu);
     for (size_t k = 0; k < cols.size(); ++k) {
-      if (t.has(cols[k])) fail("array '" + a.name + "' gives a second column '" + cols[k] + "'");
+      if (!columns.add(cols[k], &why)) fail("array '" + a.name + "' gives " + why);
       std::vector<double> c(points);
       for (size_t i = 0; i < points; ++i) c[i] = a.values[i * a.components + k];
-      t.add(cols[k], exact_column_type(a.type->number), std::move(c));
+      t.names.push_back(cols[k]);
+      t.types.push_back(exact_column_type(a.type->number));
+      t.columns.push_back(std::move(c));
     }
   };
   const auto p = std::find_if(arrays.begin(), arrays.end(),

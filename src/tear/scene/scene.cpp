@@ -398,9 +398,14 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   }
   std::stringstream text;
   text << in.rdbuf();
+  return load_scene_text(text.str(), path, overrides, resolution);
+}
+
+Scene load_scene_text(const std::string& text, const std::string& path,
+                      const std::vector<std::string>& overrides, double resolution) {
   json doc;
   try {
-    doc = json::parse(text.str());
+    doc = json::parse(text);
   } catch (const json::parse_error& e) {
     std::string msg = e.what();
     size_t close = msg.find("] ");

@@ -156,6 +156,10 @@ struct Scene {
 // overrides (tear run --resolution).
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {},
                  double resolution = 1);
+// Same, from the JSON text of a scene file at `path` (named in errors; mesh and particle files
+// are relative to its folder); load_scene reads the file and calls this.
+Scene load_scene_text(const std::string& text, const std::string& path,
+                      const std::vector<std::string>& overrides = {}, double resolution = 1);
 // Same, from an in-memory JSON document (`file` is used in error messages and to resolve paths).
 Scene parse_scene(const nlohmann::json& doc, const std::string& file);
 
