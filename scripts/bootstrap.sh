@@ -3,7 +3,8 @@
 #   bash scripts/bootstrap.sh demo   install packages, build Release, run and render the 2D
 #                                    block tear (a video and a still)
 #   bash scripts/bootstrap.sh test   install packages, build Release (with tear's own
-#                                    assertions), run every test with ctest
+#                                    assertions), run every test with ctest, then the
+#                                    sanitizer subset (scripts/sanitize.sh address --ci)
 # Packages are installed only when missing; the build goes to ./build.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -51,7 +52,14 @@ case "$mode" in
     ;;
   test)
     echo "== running the test suite"
-    ctest --test-dir build --output-on-failure -j "$(nproc)"
+    status=0
+    ctest --test-dir build --output-on-failure -j "$(nproc)" || status=1
+    # The readers, scene, particle, grid and material tests again under AddressSanitizer and
+    # UndefinedBehaviorSanitizer (docs/architecture.md "Sanitizers"; the whole suite:
+    # scripts/sanitize.sh address).
+    echo "== the sanitizer subset (scripts/sanitize.sh address --ci)"
+    bash scripts/sanitize.sh address --ci || status=1
+    exit $status
     ;;
   *)
     echo "usage: bash scripts/bootstrap.sh [demo|test]" >&2

@@ -245,7 +245,22 @@ class MpmSimulation final : public Simulation {
     xs.unconverged = long(r.get<int64_t>());
     for (uint32_t g = 0; g < groups; ++g) get_fields(&r, size_t(counts[g]), &stores[g]);
     if (!r.at_end()) throw std::runtime_error("corrupt checkpoint (trailing bytes)");
-    state_.groups = std::move(stores);
+    // What the checksum cannot vouch for (a checkpoint forged with a valid one): ids that are
+    // not a permutation, particles outside the domain or not finite.
+    for (const Particles<Dim>& g : stores) {
+      try {
+        rows_by_id(g.id);
+      } catch (const std::exception& e) {
+        throw std::runtime_error(std::string("corrupt checkpoint (") + e.what() + ")");
+      }
+    }
+    state.groups = std::move(stores);
+    if (const ParticleFault f = find_particle_fault(settings_, state))
+      throw std::runtime_error("corrupt checkpoint (particle " + std::to_string(f.id) +
+                               (f.kind == ParticleFault::Kind::LeftDomain
+                                    ? " lies outside the domain)"
+                                    : " has a non-finite position or velocity)"));
+    state_.groups = std::move(state.groups);
     state_.time = state.time;
     state_.steps = state.steps;
     state_.implicit_multigrid = state.implicit_multigrid;

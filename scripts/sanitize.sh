@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# The test suite under sanitizers (docs/testing.md "Sanitizers"), each in its own build folder:
+#   scripts/sanitize.sh address        build-asan: AddressSanitizer + UndefinedBehaviorSanitizer,
+#                                      every test
+#   scripts/sanitize.sh address --ci   the subset CI runs (the readers and their fuzz corpus,
+#                                      the scene, particle, grid and material tests, the
+#                                      explicit and implicit steps)
+#   scripts/sanitize.sh thread         build-tsan: ThreadSanitizer, the threaded tests
+# Extra arguments go to ctest (e.g. -R Cli). Exit status: ctest's.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+kind=${1:-address}
+shift || true
+ci=0
+if [[ ${1:-} == --ci ]]; then ci=1; shift; fi
+jobs=$(nproc)
+case "$kind" in
+  address)
+    dir=build-asan
+    flags="address,undefined"
+    export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1
+    export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+    ;;
+  thread)
+    dir=build-tsan
+    flags="thread"
+    # oneTBB is not instrumented: its own synchronisation is invisible to TSan, so races
+    # inside the library are suppressed (scripts/tsan.supp); tear's code is checked.
+    export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$(pwd)/scripts/tsan.supp"
+    ;;
+  *)
+    echo "usage: scripts/sanitize.sh address|thread [--ci] [ctest arguments]" >&2
+    exit 2
+    ;;
+esac
+cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTEAR_SANITIZE="$flags" \
+  -DTEAR_BUILD_BENCH=OFF >/dev/null
+# The subsets: what CI has time for (address), what runs threads (thread).
+subset_targets=()
+subset_regex=""
+if [[ $kind == address && $ci == 1 ]]; then
+  subset_targets=(test_math test_exec test_geometry test_particles test_kernels test_materials
+                  test_io test_scene test_grid replay_ply replay_obj replay_stl replay_bgeo
+                  replay_vtu replay_frame_range replay_scene)
+  subset_regex='^(Polar|SignedSvd|Cofactor|SafeLog|Exec|Memory|Shape|MeshSolid|RoundShapes|FieldRegistry|Registry|ParticlesFile|PointGroups|BSpline|Stencil|FixedCorotated|NeoHookean|StvkHencky|Qr|QrAniso|Plasticity|AtomicFile|Binary|Ply|Bgeo|Vtu|Pvd|MeshIo|Frames|Scene|Sampling|Regions|SparseGrid|Collider|BlockWindow|Fuzz)'
+elif [[ $kind == thread ]]; then
+  subset_targets=(test_exec test_grid test_mpm tear_cli test_cli)
+  subset_regex='^(Parallel|SparseGrid|Colouring|Conservation|Apic|Determinism|Cli\.OutputIsBitIdentical|Stability)'
+fi
+if ((${#subset_targets[@]})); then
+  echo "== building ${subset_targets[*]} with -fsanitize=$flags in $dir"
+  cmake --build "$dir" --target "${subset_targets[@]}"
+  echo "== ctest -R '$subset_regex' $*"
+  ctest --test-dir "$dir" --output-on-failure -j "$jobs" -R "$subset_regex" "$@"
+else
+  echo "== building everything with -fsanitize=$flags in $dir"
+  cmake --build "$dir"
+  ctest --test-dir "$dir" --output-on-failure -j "$jobs" "$@"
+fi
