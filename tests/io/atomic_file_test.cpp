@@ -128,6 +128,25 @@ TEST(AtomicFile, ReadFileErrorsNamePathAndReason) {
   EXPECT_TRUE(contains(folder, dir.file("folder") + ": cannot")) << folder;
 }
 
+// A scene may name any path; a device would be read forever (found by the scene fuzzer's
+// review): refused at once.
+TEST(AtomicFile, ReadFileRefusesDevices) {
+  const std::string message = error_of([&] { read_file("/dev/zero"); });
+  EXPECT_TRUE(contains(message, "/dev/zero: cannot read: a device, not a file")) << message;
+}
+
+// A run killed mid-write leaves ".NAME.tmp.PID"; only those are removed.
+TEST(AtomicFile, RemoveStaleTemporariesRemovesOnlyOurs) {
+  ScratchDir dir;
+  for (const char* name : {".00003.ply.tmp.4242", ".stats.jsonl.tmp.7", "00003.ply",
+                           ".hidden", ".x.tmp.", ".y.tmp.12a", "z.tmp.5"})
+    write_file_atomic(dir.file(name), "x");
+  EXPECT_EQ(remove_stale_temporaries(dir.file("")), 2);
+  EXPECT_EQ(dir.entries(), (std::set<std::string>{"00003.ply", ".hidden", ".x.tmp.", ".y.tmp.12a",
+                                         "z.tmp.5"}));
+  EXPECT_EQ(remove_stale_temporaries(dir.file("absent")), 0);
+}
+
 TEST(AtomicFile, MakeDirectoriesIsMkdirP) {
   ScratchDir dir;
   make_directories(dir.file("out/frames"));

@@ -94,6 +94,11 @@ void write_lines_atomic(const std::string& path, const std::vector<std::string>&
 }
 
 std::string read_file(const std::string& path) {
+  // A device (/dev/zero, /dev/urandom) never ends: refused before reading.
+  std::error_code type_ec;
+  const fs::file_status st = fs::status(path, type_ec);
+  if (!type_ec && (st.type() == fs::file_type::character || st.type() == fs::file_type::block))
+    throw std::runtime_error(path + ": cannot read: a device, not a file");
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) throw os_error(path, "cannot open", errno);
   std::string bytes;

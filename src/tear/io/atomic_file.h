@@ -22,7 +22,8 @@ int remove_stale_temporaries(const std::string& dir);
 // Each line followed by '\n', written atomically (stats.jsonl is rewritten every frame).
 void write_lines_atomic(const std::string& path, const std::vector<std::string>& lines);
 
-// The whole file; throws std::runtime_error naming the path if it cannot be read.
+// The whole file; throws std::runtime_error naming the path if it cannot be read or is a
+// device (which would never end).
 std::string read_file(const std::string& path);
 
 // mkdir -p; throws std::runtime_error naming the path on failure.
