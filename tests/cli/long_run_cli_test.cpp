@@ -164,6 +164,34 @@ TEST_F(LongRun, AParticleLeavingTheDomainStopsTheRunWithItsIdAndExitCode3) {
   EXPECT_FALSE(fs::exists(path("edge")));
 }
 
+// A NaN that appears in a step (injected by the test hook) stops the run in that step with
+// exit code 3, naming the particle; the frames and checkpoint before it stay.
+TEST_F(LongRun, ANanStopsTheRunInItsStepWithExitCode3) {
+  const std::string s = write_scene(scene());
+  const std::string run = path("run");
+  EXPECT_EQ(std::system(("TEAR_TEST_INJECT_NAN=150,17 " + std::string(TEAR_CLI) + " run " + s +
+                         " -o " + run + " -q 2> " + path("err.txt"))
+                            .c_str()) >> 8,
+            3);
+  err_ = read_file(path("err.txt"));
+  EXPECT_NE(err_.find("tear: the simulation became unstable in frame "), std::string::npos)
+      << err_;
+  EXPECT_NE(err_.find(", step 150 (dt "), std::string::npos) << err_;
+  EXPECT_NE(err_.find("particle 17 (material jelly) is no longer finite: x ("), std::string::npos)
+      << err_;
+  EXPECT_NE(err_.find("v (nan, "), std::string::npos) << err_;
+  EXPECT_NE(err_.find("lower time.cfl or time.max_dt"), std::string::npos) << err_;
+  // The frames before the step and their checkpoint stay, and none after it was written.
+  const int done = int(stats(run).size()) - 1;
+  EXPECT_GE(done, 1);
+  EXPECT_NE(err_.find("the last good checkpoint (frame " + std::to_string(done)),
+            std::string::npos)
+      << err_;
+  EXPECT_FALSE(fs::exists(run + "/frames/0000" + std::to_string(done + 1) + ".ply"));
+  // Without the NaN the same run completes.
+  EXPECT_EQ(tear("run " + s + " -o " + run + " -q"), 0) << err_;
+}
+
 TEST_F(LongRun, MaxMemoryRefusesARunWhoseEstimateIsLarger) {
   const std::string s = write_scene(scene());
   EXPECT_EQ(tear("run " + s + " -o " + path("run") + " -q --max-memory 10k"), 1) << err_;

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <limits>
 
 namespace tear {
@@ -33,6 +34,10 @@ class MpmSimulation final : public Simulation {
         state_(make_mpm_state<Dim>(settings_, sample_scene<Dim>(scene))),
         start_(std::chrono::steady_clock::now()) {
     for (const MaterialSpec& m : scene.materials) material_names_.push_back(m.name);
+    // For tests of the guard (docs/long-runs.md): TEAR_TEST_INJECT_NAN=STEP,ID makes particle
+    // ID's velocity NaN after step STEP.
+    if (const char* env = std::getenv("TEAR_TEST_INJECT_NAN"))
+      std::sscanf(env, "%ld,%u", &inject_nan_step_, &inject_nan_id_);
     if (const ParticleFault f = find_particle_fault(settings_, state_)) {
       char x[96];
       std::snprintf(x, sizeof(x), "(%.6g, %.6g, %.6g)", f.x[0], f.x[1], f.x[2]);
@@ -66,6 +71,10 @@ class MpmSimulation final : public Simulation {
     dt_min_ = std::min(dt_min_, dt);
     dt_max_ = std::max(dt_max_, dt);
     ++steps_since_stats_;
+    if (state_.steps == inject_nan_step_)
+      for (Particles<Dim>& g : state_.groups)
+        for (size_t i = 0; i < g.size(); ++i)
+          if (g.id[i] == inject_nan_id_) g.v[i][0] = std::numeric_limits<Real>::quiet_NaN();
     if (const ParticleFault f = find_particle_fault(settings_, state_)) throw unstable(f, dt);
     return dt;
   }
@@ -310,7 +319,7 @@ class MpmSimulation final : public Simulation {
       return UnstableRun(text + "left the domain at " + where +
                          "; enlarge grid.domain_min/domain_max, or keep it in with grid.walls "
                          "or a collider");
-    return UnstableRun(text + "has a non-finite " + where +
+    return UnstableRun(text + "is no longer finite: " + where +
                        "; lower time.cfl or time.max_dt, or check the material's parameters");
   }
 
@@ -324,6 +333,8 @@ class MpmSimulation final : public Simulation {
   mutable PointTable table_;  // frame_table()'s, reused
   int frame_ = 0;
   long steps_since_stats_ = 0;
+  long inject_nan_step_ = -1;  // TEAR_TEST_INJECT_NAN
+  uint32_t inject_nan_id_ = 0;
   double dt_min_ = std::numeric_limits<double>::infinity(), dt_max_ = 0;
 };
 
