@@ -185,7 +185,8 @@ TEST(FieldRegistry, CheckpointOfOtherFieldsIsRefusedByName) {
   other.enable("sometimes");
   ByteReader r2(w.bytes());
   EXPECT_THROW(get_fields(&r2, 3, &other), std::runtime_error);  // wrong particle count
-  ByteReader r3(w.bytes().substr(0, w.bytes().size() - 1));
+  const std::string cut = w.bytes().substr(0, w.bytes().size() - 1);
+  ByteReader r3(cut);
   EXPECT_THROW(get_fields(&r3, 2, &other), std::runtime_error);  // truncated
 }
 

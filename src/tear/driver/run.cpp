@@ -22,6 +22,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -29,8 +30,6 @@
 #include <memory>
 #include <sstream>
 #include <type_traits>
-
-#include <csignal>
 
 #include <signal.h>
 #include <unistd.h>

@@ -35,6 +35,8 @@ class ByteReader {
   // Reads `bytes` (which must outlive the reader) from offset `pos` up to `end` (default: all).
   explicit ByteReader(const std::string& bytes, size_t pos = 0, size_t end = std::string::npos)
       : bytes_(bytes), pos_(pos), end_(std::min(end, bytes.size())) {}
+  // A temporary would be gone before the first read (found by AddressSanitizer in a test).
+  ByteReader(std::string&& bytes, size_t pos = 0, size_t end = std::string::npos) = delete;
   template <class T>
   T get() {
     T value;
