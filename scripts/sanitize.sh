@@ -42,7 +42,7 @@ if [[ $kind == address && $ci == 1 ]]; then
   subset_targets=(test_math test_exec test_geometry test_particles test_kernels test_materials
                   test_io test_scene test_grid replay_ply replay_obj replay_stl replay_bgeo
                   replay_vtu replay_frame_range replay_scene)
-  subset_regex='^(Polar|SignedSvd|Cofactor|SafeLog|Exec|Memory|Shape|MeshSolid|RoundShapes|FieldRegistry|Registry|ParticlesFile|PointGroups|BSpline|Stencil|FixedCorotated|NeoHookean|StvkHencky|Qr|QrAniso|Plasticity|AtomicFile|Binary|Ply|Bgeo|Vtu|Pvd|MeshIo|Frames|Scene|Sampling|Regions|SparseGrid|Collider|BlockWindow|Fuzz)'
+  subset_regex='^(Polar|SignedSvd|Cofactor|SafeLog|Exec|Memory|Shape|MeshSolid|RoundShapes|FieldRegistry|Registry|ParticlesFile|PointGroups|BSpline|Stencil|FixedCorotated|NeoHookean|StvkHencky|Qr|QrAniso|Plasticity|AtomicFile|Binary|Ply|Bgeo|Vtu|Pvd|MeshIo|Frames|Scene|Sampling|Regions|SparseGrid|Collider|BlockWindow|Fuzz\.replay_(ply|obj|stl|bgeo|vtu|frame_range|scene)$)'
 elif [[ $kind == thread ]]; then
   subset_targets=(test_exec test_grid test_mpm tear_cli test_cli)
   subset_regex='^(Parallel|SparseGrid|Colouring|Conservation|Apic|Determinism|Cli\.OutputIsBitIdentical|Stability)'
