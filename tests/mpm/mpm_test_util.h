@@ -27,12 +27,13 @@ class MpmSim {
   MpmSim(const Scene& scene, std::vector<Particles<Dim>> groups)
       : settings_(mpm_settings(scene)), state_(make_mpm_state<Dim>(settings_, std::move(groups))) {}
 
-  void step(double dt) {
-    if (settings_.integrator == Integrator::Implicit)
-      implicit_step(settings_, &state_, dt, &record_, domain());
-    else
-      explicit_step(settings_, &state_, dt, &record_, domain());
+  // One step of dt, or shorter where it had to be redone; returns the dt taken.
+  double step(double dt) {
+    return settings_.integrator == Integrator::Implicit
+               ? implicit_step(settings_, &state_, dt, &record_, domain())
+               : explicit_step(settings_, &state_, dt, &record_, domain());
   }
+  long steps_redone() const { return record_.steps_redone; }
   // The damage update of one step alone, particles held still.
   void damage_step(double dt) { damage_only_step(settings_, &state_, dt, &record_, domain()); }
   DtLimits dt_limits() const { return tear::dt_limits(settings_, state_, domain()); }

@@ -23,7 +23,7 @@ namespace {
 // Checkpoint format: this magic (its digit is the format's version), then the header below,
 // then each group's state fields as io/field_io.h writes them, then a 64-bit checksum of
 // everything before it (io/binary.h).
-const std::string kCheckpointMagic = "TEARCKP9";
+const std::string kCheckpointMagic = "TEARCKPA";
 
 template <int Dim>
 class MpmSimulation final : public Simulation {
@@ -38,17 +38,14 @@ class MpmSimulation final : public Simulation {
     // ID's velocity NaN after step STEP.
     if (const char* env = std::getenv("TEAR_TEST_INJECT_NAN"))
       std::sscanf(env, "%ld,%u", &inject_nan_step_, &inject_nan_id_);
-    if (const ParticleFault f = find_particle_fault(settings_, state_)) {
-      char x[96];
-      std::snprintf(x, sizeof(x), "(%.6g, %.6g, %.6g)", f.x[0], f.x[1], f.x[2]);
+    if (const ParticleFault f = find_particle_fault(settings_, state_))
       throw std::runtime_error(
-          "particle " + std::to_string(f.id) + " (material " + material_name(f.material) +
-          ") starts at " + x +
+          describe(f, true) +
           (f.kind == ParticleFault::Kind::LeftDomain
-               ? ", not inside the grid's domain less one cell (dx) at each face, where "
-                 "particles are kept; move the object inward or enlarge grid.domain_min/max"
-               : ", not a finite position or velocity"));
-    }
+               ? ": particles must start inside the grid's domain less one cell (dx) at each "
+                 "face, where they are kept; move the object inward or enlarge "
+                 "grid.domain_min/max"
+               : ""));
     // The optional frame columns the scene asks for (output.fields).
     for (Particles<Dim>& g : state_.groups)
       for (const std::string& name : scene.output_fields) g.enable(name);
@@ -63,11 +60,10 @@ class MpmSimulation final : public Simulation {
   DtLimits dt_limits() const override { return tear::dt_limits(settings_, state_, domain_); }
 
   double step(double dt_cap) override {
-    const double dt = std::min(dt_cap, estimate_dt());
-    if (settings_.integrator == Integrator::Implicit)
-      implicit_step(settings_, &state_, dt, &record_, domain_);
-    else
-      explicit_step(settings_, &state_, dt, &record_, domain_);
+    const double planned = std::min(dt_cap, estimate_dt());
+    const double dt = settings_.integrator == Integrator::Implicit
+                          ? implicit_step(settings_, &state_, planned, &record_, domain_)
+                          : explicit_step(settings_, &state_, planned, &record_, domain_);
     dt_min_ = std::min(dt_min_, dt);
     dt_max_ = std::max(dt_max_, dt);
     ++steps_since_stats_;
@@ -80,7 +76,8 @@ class MpmSimulation final : public Simulation {
   }
 
   // Steps of estimate_dt(); the step that would cross the frame time is shortened to land
-  // on it exactly (ARCHITECTURE.md "One explicit step").
+  // on it exactly (ARCHITECTURE.md "One explicit step"), unless it had to be redone shorter
+  // (integrate_step): then more steps follow.
   bool advance_frame(const std::atomic<bool>* stop) override {
     const double target = double(frame_ + 1) * frame_dt_;
     while (state_.time < target) {
@@ -88,8 +85,7 @@ class MpmSimulation final : public Simulation {
       const double remaining = target - state_.time;
       const double dt = estimate_dt();
       if (dt >= remaining * (1 - 1e-9)) {
-        step(remaining);
-        state_.time = target;
+        if (step(remaining) == remaining) state_.time = target;  // not redone shorter
       } else {
         step(dt);
       }
@@ -106,6 +102,8 @@ class MpmSimulation final : public Simulation {
     s.steps = steps_since_stats_;
     s.dt_min = steps_since_stats_ ? dt_min_ : 0;
     s.dt_max = steps_since_stats_ ? dt_max_ : 0;
+    s.steps_redone = record_.steps_redone;
+    record_.steps_redone = 0;
     s.particles = f.particles;
     s.mass = f.mass;
     s.momentum = f.momentum;
@@ -169,6 +167,7 @@ class MpmSimulation final : public Simulation {
     w.put<int64_t>(steps_since_stats_);
     w.put<double>(dt_min_);
     w.put<double>(dt_max_);
+    w.put<int64_t>(record_.steps_redone);
     const DamageSolveStats& ds = record_.damage;
     w.put<int64_t>(ds.solves);
     w.put<int64_t>(ds.iterations);
@@ -232,6 +231,7 @@ class MpmSimulation final : public Simulation {
     const int frame = r.get<int32_t>();
     const long since = long(r.get<int64_t>());
     const double dt_min = r.get<double>(), dt_max = r.get<double>();
+    const int64_t redone = r.get<int64_t>();
     DamageSolveStats ds;
     ds.solves = long(r.get<int64_t>());
     ds.iterations = long(r.get<int64_t>());
@@ -265,10 +265,7 @@ class MpmSimulation final : public Simulation {
     }
     state.groups = std::move(stores);
     if (const ParticleFault f = find_particle_fault(settings_, state))
-      throw std::runtime_error("corrupt checkpoint (particle " + std::to_string(f.id) +
-                               (f.kind == ParticleFault::Kind::LeftDomain
-                                    ? " lies outside the domain)"
-                                    : " has a non-finite position or velocity)"));
+      throw std::runtime_error("corrupt checkpoint (" + describe(f, true) + ")");
     state_.groups = std::move(state.groups);
     state_.time = state.time;
     state_.steps = state.steps;
@@ -280,6 +277,7 @@ class MpmSimulation final : public Simulation {
     record_.damage = ds;
     record_.implicit = is;
     record_.inextensibility = xs;
+    record_.steps_redone = redone;
   }
 
   std::vector<std::pair<std::string, double>> phase_seconds() const override {
@@ -301,26 +299,33 @@ class MpmSimulation final : public Simulation {
     return m < material_names_.size() ? material_names_[m] : "?";
   }
 
-  // "frame 4, step 812: particle 1234 (material jelly) ...".
-  UnstableRun unstable(const ParticleFault& f, double dt) const {
-    const bool left = f.kind == ParticleFault::Kind::LeftDomain;
+  // "particle 1234 (material jelly) left the domain at x (..), v (..)", or "... is no longer
+  // finite: x (..), v (..)": the one wording of a particle fault (find_particle_fault); of a
+  // state not stepped yet (`start`: sampled, or read from a checkpoint) "starts outside the
+  // domain at" and "is not finite:".
+  std::string describe(const ParticleFault& f, bool start = false) const {
     char where[256];
     std::snprintf(where, sizeof(where), "x (%.6g, %.6g, %.6g), v (%.6g, %.6g, %.6g)", f.x[0],
                   f.x[1], f.x[2], f.v[0], f.v[1], f.v[2]);
-    const std::string material = material_name(f.material);
+    return "particle " + std::to_string(f.id) + " (material " + material_name(f.material) +
+           (f.kind == ParticleFault::Kind::LeftDomain
+                ? (start ? ") starts outside the domain at " : ") left the domain at ")
+                : (start ? ") is not finite: " : ") is no longer finite: ")) +
+           where;
+  }
+
+  // "the run stopped in frame 4, step 812 (dt ..): particle 1234 (material jelly) ...".
+  UnstableRun unstable(const ParticleFault& f, double dt) const {
+    const bool left = f.kind == ParticleFault::Kind::LeftDomain;
     char step[96];
-    std::snprintf(step, sizeof(step), "frame %d, step %ld (dt %.3g s)", frame_ + 1, state_.steps,
-                  dt);
-    const std::string text = std::string(left ? "the run stopped in " : "the simulation "
-                                                "became unstable in ") +
-                             step + ": particle " + std::to_string(f.id) + " (material " +
-                             material + ") ";
-    if (left)
-      return UnstableRun(text + "left the domain at " + where +
-                         "; enlarge grid.domain_min/domain_max, or keep it in with grid.walls "
-                         "or a collider");
-    return UnstableRun(text + "is no longer finite: " + where +
-                       "; lower time.cfl or time.max_dt, or check the material's parameters");
+    std::snprintf(step, sizeof(step), "frame %d, step %ld (dt %.3g s): ", frame_ + 1,
+                  state_.steps, dt);
+    return UnstableRun(
+        (left ? "the run stopped in " : "the simulation became unstable in ") + std::string(step) +
+        describe(f) +
+        (left ? "; enlarge grid.domain_min/domain_max, or keep it in with grid.walls or a "
+                "collider"
+              : "; lower time.cfl or time.max_dt, or check the material's parameters"));
   }
 
   MpmSettings settings_;

@@ -9,6 +9,7 @@ nlohmann::json FrameStats::to_json() const {
                       {"steps", steps},
                       {"dt_min", dt_min},
                       {"dt_max", dt_max},
+                      {"steps_redone", steps_redone},
                       {"particles", particles},
                       {"mass", mass},
                       {"momentum", vec(momentum)},

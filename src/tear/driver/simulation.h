@@ -25,6 +25,7 @@ struct FrameStats {
   double time = 0;
   long steps = 0;  // steps taken since the previous frame
   double dt_min = 0, dt_max = 0;
+  long steps_redone = 0;  // of those steps, the ones redone with a smaller dt (mpm/time_step.h)
   size_t particles = 0;
   double mass = 0;
   Vec3d momentum = Vec3d::Zero();

@@ -152,6 +152,11 @@ void SparseGrid<Dim>::bin(const std::vector<const std::vector<Vec<Dim>>*>& group
     reserve_large(&velocity_old, nodes);
     mass.resize(nodes), velocity.resize(nodes), velocity_old.resize(nodes);
   }
+  zero_momentum_fields();
+}
+
+template <int Dim>
+void SparseGrid<Dim>::zero_momentum_fields() {
   parallel_for(block_slot_.size(), [&](size_t blk) {
     const size_t a = blk * kNodesPerBlock;
     std::fill(mass.begin() + a, mass.begin() + a + kNodesPerBlock, Real(0));

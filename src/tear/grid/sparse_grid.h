@@ -88,6 +88,9 @@ class SparseGrid {
   // particles' stencils.
   std::vector<std::vector<char>> near_hot_blocks(const std::vector<std::vector<char>>& hot) const;
 
+  // Zero mass, velocity and velocity_old of the active blocks (bin() does; a step that is
+  // redone does again).
+  void zero_momentum_fields();
   // Size and zero the scalar node fields of the active blocks (bin() leaves them alone:
   // only the damage solvers use them).
   void zero_scalar_fields();

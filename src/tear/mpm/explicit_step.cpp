@@ -3,7 +3,12 @@
 #include "tear/damage/phase_field.h"
 #include "tear/exec/phase_timer.h"
 #include "tear/mpm/phases.h"
+#include "tear/mpm/time_step.h"
 #include "tear/particles/records.h"
+
+#include <algorithm>
+#include <array>
+#include <vector>
 
 namespace tear {
 
@@ -24,54 +29,64 @@ std::vector<NodeFieldView> momentum_fields(SparseGrid<Dim>* g) {
   return fields;
 }
 
+// What a step writes to the state before G2P (the damage update's particle fields, the implicit
+// integrator's choice of preconditioner), kept so that the step can be redone. No particle
+// field is kept without damage.
+template <int Dim>
+class StepStart {
+ public:
+  StepStart(const MpmSettings& settings, const MpmState<Dim>& state)
+      : implicit_multigrid_(state.implicit_multigrid) {
+    if (settings.damage.solver == DamageSolver::None) return;
+    for (const Particles<Dim>& p : state.groups)
+      kept_.push_back({p.damage, p.drive, p.damage_laplacian});
+  }
+  void put_back(MpmState<Dim>* state) const {
+    state->implicit_multigrid = implicit_multigrid_;
+    for (size_t g = 0; g < kept_.size(); ++g) {
+      Particles<Dim>& p = state->groups[g];
+      p.damage = kept_[g][0];
+      p.drive = kept_[g][1];
+      p.damage_laplacian = kept_[g][2];
+    }
+  }
+
+ private:
+  bool implicit_multigrid_;
+  std::vector<std::array<std::vector<Real>, 3>> kept_;
+};
+
 }  // namespace
 
 template <int Dim>
-void begin_step(const MpmSettings& settings, MpmState<Dim>* state, double dt, StepRecord* record,
-                Domain& domain) {
+double integrate_step(const MpmSettings& settings, MpmState<Dim>* state, double dt,
+                      StepRecord* record, Domain& domain,
+                      const std::function<void(double dt)>& to_grid) {
   PhaseTimes& t = record->times;
   {
     PhaseTimer timer(&t.sort);
     sort_particles(state);
   }
-  if (has_stress_phase(settings)) {
-    PhaseTimer timer(&t.stress);
-    update_stress(settings, state);
-  }
-  if (settings.damage.solver != DamageSolver::None) {
-    PhaseTimer timer(&t.damage);
-    update_damage(&state->groups, &state->grid, settings.damage, settings.material_damage, dt,
-                  &record->damage, domain);
-  }
-}
-
-template <int Dim>
-void end_step(MpmState<Dim>* state, double dt, Domain& domain) {
-  for (Particles<Dim>& p : state->groups) {
-    RegistryRecords records(&p, "x");
-    domain.migrate(&records);
-  }
-  state->time += dt;
-  ++state->steps;
-}
-
-template <int Dim>
-void explicit_step(const MpmSettings& settings, MpmState<Dim>* state, double dt, StepRecord* record,
-                   Domain& domain) {
-  PhaseTimes& t = record->times;
-  begin_step(settings, state, dt, record, domain);
-  if (settings.damage.split_fields) {
-    PhaseTimer timer(&t.crack_fields);
-    partition_crack_fields(settings, state, domain);
-  }
-  {
-    PhaseTimer timer(&t.p2g);
-    p2g(settings, state, Real(dt));
-  }
-  domain.sum_halos(momentum_fields(&state->grid));
-  {
-    PhaseTimer timer(&t.grid);
-    grid_update(settings, state, Real(dt));
+  const StepStart<Dim> start(settings, *state);
+  for (int attempt = 0;; ++attempt) {
+    if (has_stress_phase(settings)) {
+      PhaseTimer timer(&t.stress);
+      update_stress(settings, state);
+    }
+    if (settings.damage.solver != DamageSolver::None) {
+      PhaseTimer timer(&t.damage);
+      update_damage(&state->groups, &state->grid, settings.damage, settings.material_damage, dt,
+                    &record->damage, domain);
+    }
+    to_grid(dt);
+    const double speed = domain.max(double(grid_speed_max(*state)));
+    // Not for a NaN: a shorter step would not mend it (find_particle_fault reports it).
+    const bool too_far = speed * dt > kRedoCflFactor * settings.cfl * settings.dx;
+    if (!too_far || attempt == kMaxRedos) break;
+    start.put_back(state);
+    state->grid.zero_momentum_fields();
+    ++record->steps_redone;
+    dt = std::min(dt / 2, settings.cfl * settings.dx / speed);
   }
   if (has_inextensibility(settings)) {
     PhaseTimer timer(&t.inextensibility);
@@ -83,7 +98,32 @@ void explicit_step(const MpmSettings& settings, MpmState<Dim>* state, double dt,
     g2p(settings, state, Real(dt));
     project_plastic(settings, state);
   }
-  end_step(state, dt, domain);
+  for (Particles<Dim>& p : state->groups) {
+    RegistryRecords records(&p, "x");
+    domain.migrate(&records);
+  }
+  state->time += dt;
+  ++state->steps;
+  return dt;
+}
+
+template <int Dim>
+double explicit_step(const MpmSettings& settings, MpmState<Dim>* state, double dt,
+                     StepRecord* record, Domain& domain) {
+  PhaseTimes& t = record->times;
+  return integrate_step(settings, state, dt, record, domain, [&](double h) {
+    if (settings.damage.split_fields) {
+      PhaseTimer timer(&t.crack_fields);
+      partition_crack_fields(settings, state, domain);
+    }
+    {
+      PhaseTimer timer(&t.p2g);
+      p2g(settings, state, Real(h));
+    }
+    domain.sum_halos(momentum_fields(&state->grid));
+    PhaseTimer timer(&t.grid);
+    grid_update(settings, state, Real(h));
+  });
 }
 
 template <int Dim>
@@ -95,12 +135,13 @@ void damage_only_step(const MpmSettings& settings, MpmState<Dim>* state, double 
                 &record->damage, domain);
 }
 
-template void begin_step<2>(const MpmSettings&, MpmState<2>*, double, StepRecord*, Domain&);
-template void begin_step<3>(const MpmSettings&, MpmState<3>*, double, StepRecord*, Domain&);
-template void end_step<2>(MpmState<2>*, double, Domain&);
-template void end_step<3>(MpmState<3>*, double, Domain&);
-template void explicit_step<2>(const MpmSettings&, MpmState<2>*, double, StepRecord*, Domain&);
-template void explicit_step<3>(const MpmSettings&, MpmState<3>*, double, StepRecord*, Domain&);
+using ToGrid = std::function<void(double)>;
+template double integrate_step<2>(const MpmSettings&, MpmState<2>*, double, StepRecord*, Domain&,
+                                  const ToGrid&);
+template double integrate_step<3>(const MpmSettings&, MpmState<3>*, double, StepRecord*, Domain&,
+                                  const ToGrid&);
+template double explicit_step<2>(const MpmSettings&, MpmState<2>*, double, StepRecord*, Domain&);
+template double explicit_step<3>(const MpmSettings&, MpmState<3>*, double, StepRecord*, Domain&);
 template void damage_only_step<2>(const MpmSettings&, MpmState<2>*, double, StepRecord*, Domain&);
 template void damage_only_step<3>(const MpmSettings&, MpmState<3>*, double, StepRecord*, Domain&);
 

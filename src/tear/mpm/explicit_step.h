@@ -8,6 +8,8 @@
 #include "tear/mpm/settings.h"
 #include "tear/mpm/state.h"
 
+#include <functional>
+
 namespace tear {
 
 // Wall-clock seconds spent in each phase.
@@ -35,23 +37,29 @@ struct StepRecord {
   DamageSolveStats damage;
   ImplicitSolveStats implicit;
   InextensibilityStats inextensibility;
+  long steps_redone = 0;  // steps redone with a smaller dt (integrate_step)
 };
 
-// What every integrator's step begins with: sort, the constitutive phase (when damage needs
-// it) and the damage update, each timed.
+// Every integrator's step (explicit_step, implicit_step): sort; the constitutive phase (when
+// damage needs it) and the damage update; `to_grid(dt)`, the integrator's own part, which
+// leaves this step's grid velocities; the inextensibility projection, G2P with the plastic
+// projection, migration between ranks, time and step counter. dt was sized from the velocities
+// at the step's start (mpm/time_step.h); when the grid velocities would carry material further
+// than kRedoCflFactor * cfl * dx (a collider that starts to push, a sudden release), the damage
+// fields are put back and the step after the sort is redone with
+// dt = min(dt / 2, cfl dx / max|v_i|), up to kMaxRedos times (record->steps_redone counts the
+// redone steps). Returns the dt taken.
 template <int Dim>
-void begin_step(const MpmSettings& settings, MpmState<Dim>* state, double dt, StepRecord* record,
-                Domain& domain);
+double integrate_step(const MpmSettings& settings, MpmState<Dim>* state, double dt,
+                      StepRecord* record, Domain& domain,
+                      const std::function<void(double dt)>& to_grid);
 
-// And ends with: particles migrate between ranks, time and step counter advance.
+// One explicit step of size dt from state->time to state->time + dt, or shorter where it had to
+// be redone (integrate_step); returns the dt taken. `domain` adds the halo exchange and
+// migration of a multi-process run (a LocalDomain: nothing).
 template <int Dim>
-void end_step(MpmState<Dim>* state, double dt, Domain& domain);
-
-// One explicit step of size dt from state->time to state->time + dt. `domain` adds the halo
-// exchange and migration of a multi-process run (a LocalDomain: nothing).
-template <int Dim>
-void explicit_step(const MpmSettings& settings, MpmState<Dim>* state, double dt, StepRecord* record,
-                   Domain& domain);
+double explicit_step(const MpmSettings& settings, MpmState<Dim>* state, double dt,
+                     StepRecord* record, Domain& domain);
 
 // The damage update of one step alone, particles held still (tests): bins the particles and
 // computes their stress, then does what a step does for damage.

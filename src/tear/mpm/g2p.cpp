@@ -18,12 +18,7 @@ void gather(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
   const Real ratio =
       Real(settings.flip_relaxation_time > 0 ? std::exp(-double(dt) / settings.flip_relaxation_time)
                                              : settings.flip_ratio);
-  // Particles are kept one cell inside the domain.
-  Vec<Dim> lo_x, hi_x;
-  for (int d = 0; d < Dim; ++d) {
-    lo_x[d] = Real(settings.domain_min[d] + settings.dx);
-    hi_x[d] = Real(settings.domain_max[d] - settings.dx);
-  }
+  const KeptBox<Dim> kept(settings);
   // Home blocks in parallel; each copies the nodes its particles reach into a window.
   for (size_t g = 0; g < state->groups.size(); ++g) {
     Particles<Dim>& p = state->groups[g];
@@ -62,7 +57,7 @@ void gather(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
         }
         p.F[i] = G * p.F[i];
         p.v[i] = flip ? Vec<Dim>(ratio * (p.v[i] + v - v_old) + (1 - ratio) * v) : v;
-        p.x[i] = (p.x[i] + dt * v).cwiseMax(lo_x).cwiseMin(hi_x);
+        p.x[i] = (p.x[i] + dt * v).cwiseMax(kept.lo).cwiseMin(kept.hi);
       }
     });
   }

@@ -3,6 +3,9 @@
 #include "tear/exec/parallel.h"
 #include "tear/mpm/phases.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace tear {
 
 namespace {
@@ -58,7 +61,24 @@ void grid_update(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
   apply_colliders<Dim>(grid, settings.walls, settings.colliders, state->time);
 }
 
+template <int Dim>
+Real grid_speed_max(const MpmState<Dim>& state) {
+  const SparseGrid<Dim>& grid = state.grid;
+  const bool split = grid.split();
+  const Real v2 = parallel_max<Real>(
+      grid.num_active_nodes(),
+      [&](size_t node) {
+        Real s = grid.mass[node] > 0 ? grid.velocity[node].squaredNorm() : Real(0);
+        if (split && grid.mass2[node] > 0) s = std::max(s, grid.velocity2[node].squaredNorm());
+        return s;
+      },
+      Real(0));
+  return std::sqrt(v2);
+}
+
 template void grid_update<2>(const MpmSettings&, MpmState<2>*, Real);
 template void grid_update<3>(const MpmSettings&, MpmState<3>*, Real);
+template Real grid_speed_max<2>(const MpmState<2>&);
+template Real grid_speed_max<3>(const MpmState<3>&);
 
 }  // namespace tear

@@ -385,20 +385,19 @@ void IncrementalPotential<Dim>::precondition(const std::vector<Real>& r,
 }
 
 template <int Dim>
-void implicit_step(const MpmSettings& settings, MpmState<Dim>* state, double dt, StepRecord* record,
-                   Domain& domain) {
+double implicit_step(const MpmSettings& settings, MpmState<Dim>* state, double dt,
+                     StepRecord* record, Domain& domain) {
   if (settings.damage.split_fields)
     throw std::invalid_argument("the implicit integrator does not support crack fields");
   PhaseTimes& t = record->times;
-  begin_step(settings, state, dt, record, domain);
-  {
-    PhaseTimer timer(&t.p2g);
-    p2g(settings, state, Real(0));  // mass and momentum; the stress enters the solve
-  }
-  {
+  return integrate_step(settings, state, dt, record, domain, [&](double h) {
+    {
+      PhaseTimer timer(&t.p2g);
+      p2g(settings, state, Real(0));  // mass and momentum; the stress enters the solve
+    }
     PhaseTimer timer(&t.grid);
-    grid_update(settings, state, Real(dt));  // v*: gravity, walls and colliders
-    IncrementalPotential<Dim> potential(settings, *state, Real(dt));
+    grid_update(settings, state, Real(h));  // v*: gravity, walls and colliders
+    IncrementalPotential<Dim> potential(settings, *state, Real(h));
     std::vector<Real> v = potential.initial();
     const NewtonResult r = newton_minimize(potential, &v, settings.newton);
     SparseGrid<Dim>& grid = state->grid;
@@ -415,22 +414,12 @@ void implicit_step(const MpmSettings& settings, MpmState<Dim>* state, double dt,
     if (!r.converged) ++s.unconverged;
     s.multigrid_solves += potential.multigrid_solves();
     if (potential.multigrid_solves() > 0) state->implicit_multigrid = true;
-  }
-  if (has_inextensibility(settings)) {
-    PhaseTimer timer(&t.inextensibility);
-    enforce_inextensibility(settings, state, Real(dt), &record->inextensibility);
-  }
-  {
-    PhaseTimer timer(&t.g2p);
-    g2p(settings, state, Real(dt));
-    project_plastic(settings, state);
-  }
-  end_step(state, dt, domain);
+  });
 }
 
 template class IncrementalPotential<2>;
 template class IncrementalPotential<3>;
-template void implicit_step<2>(const MpmSettings&, MpmState<2>*, double, StepRecord*, Domain&);
-template void implicit_step<3>(const MpmSettings&, MpmState<3>*, double, StepRecord*, Domain&);
+template double implicit_step<2>(const MpmSettings&, MpmState<2>*, double, StepRecord*, Domain&);
+template double implicit_step<3>(const MpmSettings&, MpmState<3>*, double, StepRecord*, Domain&);
 
 }  // namespace tear

@@ -25,10 +25,12 @@ namespace tear {
 //   step; colliders and walls hold their nodes' constrained components (sticky: all, slip: the
 //   normal one, separate: the normal one where the node approaches) at v*'s; then colliders
 //   again (friction), G2P and the plastic projection. Crack fields (damage.split_fields) are not
-//   supported (the scene refuses them). One process only: `domain` must be local.
+//   supported (the scene refuses them). One process only: `domain` must be local. Redone with a
+// smaller dt where its velocities would move material too far, as every step
+// (integrate_step, mpm/explicit_step.h); returns the dt taken.
 template <int Dim>
-void implicit_step(const MpmSettings& settings, MpmState<Dim>* state, double dt, StepRecord* record,
-                   Domain& domain);
+double implicit_step(const MpmSettings& settings, MpmState<Dim>* state, double dt,
+                     StepRecord* record, Domain& domain);
 
 // The incremental potential of one step over the grid velocities (flattened: Dim entries per
 // grid node, nodes in storage order), as solvers/newton.h's problem. Built after P2G and the

@@ -136,15 +136,12 @@ StateFigures reduce_figures(const StateFigures& local, const Domain& domain) {
 
 template <int Dim>
 ParticleFault find_particle_fault(const MpmSettings& settings, const MpmState<Dim>& state) {
-  // The same box as G2P's clamp: a particle on its faces was pushed back onto it.
-  Vec<Dim> lo, hi;
-  for (int d = 0; d < Dim; ++d) {
-    lo[d] = Real(settings.domain_min[d] + settings.dx);
-    hi[d] = Real(settings.domain_max[d] - settings.dx);
-  }
+  // G2P's box: a particle on its faces was pushed back onto it.
+  const KeptBox<Dim> kept(settings);
   auto fault_kind = [&](const Particles<Dim>& p, size_t i) {
     if (!p.x[i].allFinite() || !p.v[i].allFinite()) return 2;
-    if ((p.x[i].array() <= lo.array()).any() || (p.x[i].array() >= hi.array()).any()) return 1;
+    if ((p.x[i].array() <= kept.lo.array()).any() || (p.x[i].array() >= kept.hi.array()).any())
+      return 1;
     return 0;
   };
   ParticleFault fault;

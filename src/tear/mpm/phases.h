@@ -69,6 +69,25 @@ void p2g(const MpmSettings& settings, MpmState<Dim>* state, Real dt);
 template <int Dim>
 void grid_update(const MpmSettings& settings, MpmState<Dim>* state, Real dt);
 
+// The largest speed of a grid node with mass (of either field of a split node), after the grid
+// update: what G2P will move the particles with (mpm/grid_update.cpp).
+template <int Dim>
+Real grid_speed_max(const MpmState<Dim>& state);
+
+// The box G2P keeps the particles in: the domain less one cell (dx) at each face, so that
+// every node a particle's stencil reaches is inside the domain. A particle on its faces was
+// pushed back onto it: it has left the domain (find_particle_fault, mpm/measure.h).
+template <int Dim>
+struct KeptBox {
+  Vec<Dim> lo, hi;
+  explicit KeptBox(const MpmSettings& settings) {
+    for (int d = 0; d < Dim; ++d) {
+      lo[d] = Real(settings.domain_min[d] + settings.dx);
+      hi[d] = Real(settings.domain_max[d] - settings.dx);
+    }
+  }
+};
+
 // Grid to particles: velocity (APIC, PIC or FLIP), affine matrix, position and
 // F <- (I + dt grad v) F (mpm/g2p.cpp).
 template <int Dim>

@@ -20,6 +20,12 @@ struct DtLimits {
   const char* limiting() const;
 };
 
+// The step guard (integrate_step, mpm/explicit_step.h): a step whose grid velocities would
+// carry material further than kRedoCflFactor * cfl * dx is redone with a smaller dt, at most
+// kMaxRedos times (docs/long-runs.md "Steps that would move too far").
+constexpr double kRedoCflFactor = 2;
+constexpr int kMaxRedos = 8;
+
 // The limits for the current state, reduced over the ranks of `domain`.
 template <int Dim>
 DtLimits dt_limits(const MpmSettings& settings, const MpmState<Dim>& state, const Domain& domain);
