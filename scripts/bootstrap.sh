@@ -38,6 +38,7 @@ else
   echo "== building tear, its tests and benchmarks (Release) in ./build"
   cmake --build build
 fi
+echo "== $SECONDS s so far"
 
 case "$mode" in
   demo)
@@ -54,11 +55,13 @@ case "$mode" in
     echo "== running the test suite"
     status=0
     ctest --test-dir build --output-on-failure -j "$(nproc)" || status=1
+    echo "== $SECONDS s so far"
     # The readers, scene, particle, grid and material tests again under AddressSanitizer and
     # UndefinedBehaviorSanitizer (docs/architecture.md "Sanitizers"; the whole suite:
     # scripts/sanitize.sh address).
     echo "== the sanitizer subset (scripts/sanitize.sh address --ci)"
     bash scripts/sanitize.sh address --ci || status=1
+    echo "== $SECONDS s in all"
     exit $status
     ;;
   *)
