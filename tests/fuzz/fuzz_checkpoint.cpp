@@ -2,8 +2,8 @@
 // once. Each input is decoded as it is and again with its last 8 bytes replaced by the checksum
 // of the rest, so that mutations get past the checksum to the fields behind it. A decoded state
 // must give its frame table (or refuse with a std::exception: decode_checkpoint does not check
-// the particle ids, rows_by_id does). The seeds (TearFuzzSeeds) are checkpoints of this build's
-// format.
+// the particle ids, rows_by_id does), then take a step and give its frame table again. The seeds
+// (TearFuzzSeeds) are checkpoints of this build's format.
 #include <memory>
 
 #include "fuzz_util.h"
@@ -38,6 +38,13 @@ void decode(const std::string& bytes) {
   fuzz::accepts([&] { rows = sim.frame_table().count; });
   if (rows != sim.num_particles())
     fuzz::finding("the frame table of a decoded checkpoint has another particle count");
+  // A decoded state must step, or stop with a clear error (UnstableRun, a std::exception):
+  // whatever F, C, damage or velocities the bytes gave its particles. One short step (the
+  // step guard may redo it shorter, up to 2^8 times), then the frame table again.
+  fuzz::accepts([&] { sim.step(1e-4); });
+  fuzz::accepts([&] { rows = sim.frame_table().count; });
+  if (rows != sim.num_particles())
+    fuzz::finding("the frame table of a stepped checkpoint has another particle count");
 }
 
 // `bytes` with its last 8 bytes the checksum of the rest (binary.h).

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace tear {
 
@@ -64,12 +65,28 @@ void grid_update(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
 template <int Dim>
 Real grid_speed_max(const MpmState<Dim>& state) {
   const SparseGrid<Dim>& grid = state.grid;
+  Real neg_min_mass = -std::numeric_limits<Real>::infinity();  // -(smallest particle mass)
+  for (const Particles<Dim>& p : state.groups)
+    neg_min_mass = std::max(neg_min_mass,
+                            parallel_max<Real>(
+                                p.size(), [&](size_t i) { return -p.mass[i]; },
+                                -std::numeric_limits<Real>::infinity()));
+  const Real m_min = -neg_min_mass;
+  if (!(m_min > 0)) return 0;
+  // w_ip m_p <= m_i, so node i moves particle p by at most min(1, m_i / m_p) |v_i| per unit
+  // time: a node at the edge of the material (little mass, often a large velocity) moves
+  // nothing much.
+  auto speed2 = [&](Real m, const Vec<Dim>& v) {
+    if (m <= 0) return Real(0);
+    const Real share = std::min(Real(1), m / m_min);
+    return share * share * v.squaredNorm();
+  };
   const bool split = grid.split();
   const Real v2 = parallel_max<Real>(
       grid.num_active_nodes(),
       [&](size_t node) {
-        Real s = grid.mass[node] > 0 ? grid.velocity[node].squaredNorm() : Real(0);
-        if (split && grid.mass2[node] > 0) s = std::max(s, grid.velocity2[node].squaredNorm());
+        Real s = speed2(grid.mass[node], grid.velocity[node]);
+        if (split) s = std::max(s, speed2(grid.mass2[node], grid.velocity2[node]));
         return s;
       },
       Real(0));

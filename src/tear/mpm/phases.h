@@ -69,8 +69,11 @@ void p2g(const MpmSettings& settings, MpmState<Dim>* state, Real dt);
 template <int Dim>
 void grid_update(const MpmSettings& settings, MpmState<Dim>* state, Real dt);
 
-// The largest speed of a grid node with mass (of either field of a split node), after the grid
-// update: what G2P will move the particles with (mpm/grid_update.cpp).
+// After the grid update, the largest speed a node can give a particle in G2P: |v_i| times
+// min(1, m_i / m_min), m_min the smallest particle mass (a particle's weight at a node is at
+// most m_i / m_p), over both fields of a split node. Inside the material and at colliders it is
+// the node's speed; a node at the material's edge, with little mass and often a large velocity,
+// counts for its share (mpm/grid_update.cpp).
 template <int Dim>
 Real grid_speed_max(const MpmState<Dim>& state);
 
