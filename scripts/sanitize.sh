@@ -38,9 +38,7 @@ esac
 optimise=()
 if [[ $ci == 1 ]]; then dir=$dir-ci; fi
 if [[ $ci == 1 || $kind == thread ]]; then
-  optimise=(-DCMAKE_C#   scripts/sanitize.sh address --ci   build-asan-ci (-O1 -g1): the subset CI runs (the readers
-#                                      and their fuzz corpus, the scene parser's corpus, the
-#                                      math, exec, geometry, particle, io and grid tests)_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG")
+  optimise=(-DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG")
 fi
 cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTEAR_SANITIZE="$flags" \
   -DTEAR_BUILD_BENCH=OFF "${optimise[@]}" >/dev/null
