@@ -56,6 +56,22 @@ class StepStart {
   std::vector<std::array<std::vector<Real>, 3>> kept_;
 };
 
+// The phases before the integrator's own: the undegraded stress and the damage update.
+template <int Dim>
+void stress_and_damage(const MpmSettings& settings, MpmState<Dim>* state, double dt,
+                       StepRecord* record, Domain& domain) {
+  PhaseTimes& t = record->times;
+  if (has_stress_phase(settings)) {
+    PhaseTimer timer(&t.stress);
+    update_stress(settings, state);
+  }
+  if (settings.damage.solver != DamageSolver::None) {
+    PhaseTimer timer(&t.damage);
+    update_damage(&state->groups, &state->grid, settings.damage, settings.material_damage, dt,
+                  &record->damage, domain);
+  }
+}
+
 }  // namespace
 
 template <int Dim>
@@ -68,18 +84,11 @@ double integrate_step(const MpmSettings& settings, MpmState<Dim>* state, double 
     sort_particles(state);
   }
   const StepStart<Dim> start(settings, *state);
+  const Real m_min = Real(domain.min(double(smallest_particle_mass(*state))));
   for (int attempt = 0;; ++attempt) {
-    if (has_stress_phase(settings)) {
-      PhaseTimer timer(&t.stress);
-      update_stress(settings, state);
-    }
-    if (settings.damage.solver != DamageSolver::None) {
-      PhaseTimer timer(&t.damage);
-      update_damage(&state->groups, &state->grid, settings.damage, settings.material_damage, dt,
-                    &record->damage, domain);
-    }
+    stress_and_damage(settings, state, dt, record, domain);
     to_grid(dt);
-    const double speed = domain.max(double(grid_speed_max(*state)));
+    const double speed = domain.max(double(grid_speed_max(*state, m_min)));
     // Not for a NaN: a shorter step would not mend it (find_particle_fault reports it).
     const bool too_far = speed * dt > kRedoCflFactor * settings.cfl * settings.dx;
     if (!too_far || attempt == kMaxRedos) break;
@@ -130,9 +139,7 @@ template <int Dim>
 void damage_only_step(const MpmSettings& settings, MpmState<Dim>* state, double dt,
                       StepRecord* record, Domain& domain) {
   sort_particles(state);
-  update_stress(settings, state);
-  update_damage(&state->groups, &state->grid, settings.damage, settings.material_damage, dt,
-                &record->damage, domain);
+  stress_and_damage(settings, state, dt, record, domain);
 }
 
 using ToGrid = std::function<void(double)>;

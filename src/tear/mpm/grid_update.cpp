@@ -63,16 +63,20 @@ void grid_update(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
 }
 
 template <int Dim>
-Real grid_speed_max(const MpmState<Dim>& state) {
-  const SparseGrid<Dim>& grid = state.grid;
-  Real neg_min_mass = -std::numeric_limits<Real>::infinity();  // -(smallest particle mass)
+Real smallest_particle_mass(const MpmState<Dim>& state) {
+  Real neg_min_mass = -std::numeric_limits<Real>::infinity();
   for (const Particles<Dim>& p : state.groups)
     neg_min_mass = std::max(neg_min_mass,
                             parallel_max<Real>(
                                 p.size(), [&](size_t i) { return -p.mass[i]; },
                                 -std::numeric_limits<Real>::infinity()));
-  const Real m_min = -neg_min_mass;
-  if (!(m_min > 0)) return 0;
+  return -neg_min_mass;
+}
+
+template <int Dim>
+Real grid_speed_max(const MpmState<Dim>& state, Real m_min) {
+  const SparseGrid<Dim>& grid = state.grid;
+  if (!(m_min > 0) || !std::isfinite(m_min)) return 0;
   // w_ip m_p <= m_i, so node i moves particle p by at most min(1, m_i / m_p) |v_i| per unit
   // time: a node at the edge of the material (little mass, often a large velocity) moves
   // nothing much.
@@ -95,7 +99,9 @@ Real grid_speed_max(const MpmState<Dim>& state) {
 
 template void grid_update<2>(const MpmSettings&, MpmState<2>*, Real);
 template void grid_update<3>(const MpmSettings&, MpmState<3>*, Real);
-template Real grid_speed_max<2>(const MpmState<2>&);
-template Real grid_speed_max<3>(const MpmState<3>&);
+template Real smallest_particle_mass<2>(const MpmState<2>&);
+template Real smallest_particle_mass<3>(const MpmState<3>&);
+template Real grid_speed_max<2>(const MpmState<2>&, Real);
+template Real grid_speed_max<3>(const MpmState<3>&, Real);
 
 }  // namespace tear

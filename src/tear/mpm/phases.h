@@ -73,9 +73,14 @@ void grid_update(const MpmSettings& settings, MpmState<Dim>* state, Real dt);
 // min(1, m_i / m_min), m_min the smallest particle mass (a particle's weight at a node is at
 // most m_i / m_p), over both fields of a split node. Inside the material and at colliders it is
 // the node's speed; a node at the material's edge, with little mass and often a large velocity,
-// counts for its share (mpm/grid_update.cpp).
+// counts for its share; m_min from smallest_particle_mass (mpm/grid_update.cpp).
 template <int Dim>
-Real grid_speed_max(const MpmState<Dim>& state);
+Real grid_speed_max(const MpmState<Dim>& state, Real m_min);
+
+// The smallest particle mass over all groups (+inf without particles), for grid_speed_max:
+// computed once a step, not once an attempt.
+template <int Dim>
+Real smallest_particle_mass(const MpmState<Dim>& state);
 
 // The box G2P keeps the particles in: the domain less one cell (dx) at each face, so that
 // every node a particle's stencil reaches is inside the domain. A particle on its faces was
