@@ -18,9 +18,11 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <stdexcept>
+#include <string>
 #include <unordered_map>
 
 namespace tear {
@@ -173,13 +175,34 @@ Renderer::~Renderer() = default;
 
 namespace {
 
+// Embree handles released when their owner goes, an exception included (a Geometry whose
+// constructor throws after creating its scene has no destructor run).
+struct ReleaseScene {
+  void operator()(RTCScene s) const { rtcReleaseScene(s); }
+};
+struct ReleaseGeometry {
+  void operator()(RTCGeometry g) const { rtcReleaseGeometry(g); }
+};
+using SceneHandle = std::unique_ptr<RTCSceneTy, ReleaseScene>;
+using GeometryHandle = std::unique_ptr<RTCGeometryTy, ReleaseGeometry>;
+
+// A new geometry buffer of `count` items of `bytes` each; Embree gives null when it cannot.
+template <typename T>
+T* new_buffer(RTCGeometry g, RTCBufferType type, RTCFormat format, size_t bytes, size_t count) {
+  void* b = rtcSetNewGeometryBuffer(g, type, 0, format, bytes, count);
+  if (!b) throw std::runtime_error("Embree: cannot allocate a buffer of " +
+                                   std::to_string(count) + " items");
+  return static_cast<T*>(b);
+}
+
 // One frame's geometry in an Embree scene, and what shading needs to read back.
 class Geometry {
  public:
   Geometry(RTCDevice device, const PointTable& frame, const RenderLook& look,
            const RenderSettings& settings)
       : scene_(rtcNewScene(device)) {
-    rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_MEDIUM);
+    if (!scene_) throw std::runtime_error("Embree: cannot create a scene");
+    rtcSetSceneBuildQuality(scene(), RTC_BUILD_QUALITY_MEDIUM);
     const std::vector<Vector3f> albedo = point_albedo(frame, settings);
     std::vector<Vector3f> centre;
     centre.reserve(frame.count);
@@ -188,13 +211,12 @@ class Geometry {
       build_mesh(device, frame, look, centre, albedo);
     else
       build_spheres(device, particle_radii(frame, look, settings), centre, albedo);
-    rtcCommitScene(scene_);
+    rtcCommitScene(scene());
   }
-  ~Geometry() { rtcReleaseScene(scene_); }
   Geometry(const Geometry&) = delete;
   Geometry& operator=(const Geometry&) = delete;
 
-  RTCScene scene() const { return scene_; }
+  RTCScene scene() const { return scene_.get(); }
 
   // The closest surface along o + t d for t in (0, tmax); false when none.
   bool intersect(RTCIntersectContext* ctx, const Vector3d& o, const Vector3d& d, double tmax,
@@ -203,7 +225,7 @@ class Geometry {
     set_ray(&rh.ray, o, d, tmax);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(scene_, ctx, &rh);
+    rtcIntersect1(scene(), ctx, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
     const size_t k = rh.hit.primID;
     if (spheres_) {
@@ -257,7 +279,7 @@ class Geometry {
   bool occluded(RTCIntersectContext* ctx, const Vector3d& o, const Vector3d& d, double tmax) const {
     RTCRay ray;
     set_ray(&ray, o, d, tmax);
-    rtcOccluded1(scene_, ctx, &ray);
+    rtcOccluded1(scene(), ctx, &ray);
     return ray.tfar < 0;
   }
 
@@ -283,9 +305,9 @@ class Geometry {
     for (size_t i = 0; i < centre.size(); ++i)
       if (centre[i].allFinite() && radius[i] > 0) keep.push_back(i);
     if (keep.empty()) return;
-    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-    sphere_ = static_cast<float*>(rtcSetNewGeometryBuffer(
-        g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), keep.size()));
+    const GeometryHandle g(rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT));
+    sphere_ = new_buffer<float>(g.get(), RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT4,
+                                4 * sizeof(float), keep.size());
     albedo_.resize(keep.size());
     for (size_t k = 0; k < keep.size(); ++k) {
       const size_t i = keep[k];
@@ -293,15 +315,14 @@ class Geometry {
       v[0] = centre[i].x(), v[1] = centre[i].y(), v[2] = centre[i].z(), v[3] = radius[i];
       albedo_[k] = albedo[i];
     }
-    rtcCommitGeometry(g);
-    rtcAttachGeometry(scene_, g);
-    rtcReleaseGeometry(g);
+    rtcCommitGeometry(g.get());
+    rtcAttachGeometry(scene(), g.get());
   }
 
   void build_mesh(RTCDevice device, const PointTable& frame, const RenderLook& look,
                   const std::vector<Vector3f>& centre, const std::vector<Vector3f>& albedo);
 
-  RTCScene scene_;
+  SceneHandle scene_;
   bool spheres_ = true;
   float* sphere_ = nullptr;         // x y z r per sphere (Embree's buffer)
   std::vector<Vector3f> albedo_;    // linear, per sphere or per mesh vertex
@@ -371,18 +392,17 @@ void Geometry::build_mesh(RTCDevice device, const PointTable& frame, const Rende
   }
   for (Vector3f& n : normal_)
     if (n.norm() > 0) n.normalize();
-  RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-  float* v = static_cast<float*>(rtcSetNewGeometryBuffer(
-      g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), vertices_.size()));
+  const GeometryHandle g(rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE));
+  float* v = new_buffer<float>(g.get(), RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT3,
+                               3 * sizeof(float), vertices_.size());
   for (size_t i = 0; i < vertices_.size(); ++i)
     for (int a = 0; a < 3; ++a) v[3 * i + size_t(a)] = vertices_[i][a];
-  uint32_t* idx = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
-      g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), triangles_.size()));
+  uint32_t* idx = new_buffer<uint32_t>(g.get(), RTC_BUFFER_TYPE_INDEX, RTC_FORMAT_UINT3,
+                                       3 * sizeof(uint32_t), triangles_.size());
   for (size_t t = 0; t < triangles_.size(); ++t)
     for (int a = 0; a < 3; ++a) idx[3 * t + size_t(a)] = uint32_t(triangles_[t][size_t(a)]);
-  rtcCommitGeometry(g);
-  rtcAttachGeometry(scene_, g);
-  rtcReleaseGeometry(g);
+  rtcCommitGeometry(g.get());
+  rtcAttachGeometry(scene(), g.get());
 }
 
 // Everything fixed while the pixels of one picture are traced.
