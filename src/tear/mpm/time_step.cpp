@@ -21,6 +21,16 @@ const char* DtLimits::limiting() const {
 
 template <int Dim>
 DtLimits dt_limits(const MpmSettings& s, const MpmState<Dim>& state, const Domain& domain) {
+  Real v2 = 0;
+  for (const Particles<Dim>& p : state.groups)
+    v2 = std::max(v2, parallel_max<Real>(
+                          p.size(), [&](size_t i) { return p.v[i].squaredNorm(); }, Real(0)));
+  return dt_limits(s, state, domain, v2);
+}
+
+template <int Dim>
+DtLimits dt_limits(const MpmSettings& s, const MpmState<Dim>& state, const Domain& domain,
+                   Real v2) {
   constexpr double kNone = std::numeric_limits<double>::infinity();
   DtLimits l;
   l.max_dt = s.max_dt;
@@ -29,10 +39,6 @@ DtLimits dt_limits(const MpmSettings& s, const MpmState<Dim>& state, const Domai
   // The implicit integrator is not limited by the wave speed (only by max_dt, the particle
   // speed's displacement CFL and, with explicit damage, its limit).
   l.wave = c > 0 && s.integrator == Integrator::Explicit ? s.cfl * s.dx / c : kNone;
-  Real v2 = 0;
-  for (const Particles<Dim>& p : state.groups)
-    v2 = std::max(v2, parallel_max<Real>(
-                          p.size(), [&](size_t i) { return p.v[i].squaredNorm(); }, Real(0)));
   const Real vmax = std::sqrt(Real(domain.max(double(v2))));
   l.velocity = vmax > 0 ? s.cfl * s.dx / vmax : kNone;
   l.damage = domain.min(damage_dt_limit(state.groups, s.damage, s.material_damage, s.dx, false));
@@ -42,5 +48,7 @@ DtLimits dt_limits(const MpmSettings& s, const MpmState<Dim>& state, const Domai
 
 template DtLimits dt_limits<2>(const MpmSettings&, const MpmState<2>&, const Domain&);
 template DtLimits dt_limits<3>(const MpmSettings&, const MpmState<3>&, const Domain&);
+template DtLimits dt_limits<2>(const MpmSettings&, const MpmState<2>&, const Domain&, Real);
+template DtLimits dt_limits<3>(const MpmSettings&, const MpmState<3>&, const Domain&, Real);
 
 }  // namespace tear
