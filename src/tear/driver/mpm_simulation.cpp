@@ -276,6 +276,7 @@ class MpmSimulation final : public Simulation {
     state_.groups = std::move(state.groups);
     state_.time = state.time;
     state_.steps = state.steps;
+    state_.home_slots_step = -1;  // new positions
     state_.implicit_multigrid = state.implicit_multigrid;
     speed2_ = speed2_or_fault(settings_, state_);
     frame_ = frame;

@@ -38,8 +38,8 @@ IVec<Dim> SparseGrid<Dim>::slot_coord(int slot) const {
 }
 
 template <int Dim>
-void SparseGrid<Dim>::bin(const std::vector<const std::vector<Vec<Dim>>*>& groups) {
-  const Real inv_dx = Real(1 / dx_);
+void SparseGrid<Dim>::bin(const std::vector<const std::vector<Vec<Dim>>*>& groups,
+                          std::vector<std::vector<int>>* slots) {
   bins_.resize(groups.size());
   // Reset the previous activation.
   for (int s : block_slot_) table_[s] = -1;
@@ -49,25 +49,21 @@ void SparseGrid<Dim>::bin(const std::vector<const std::vector<Vec<Dim>>*>& group
     const std::vector<Vec<Dim>>& x = *groups[g];
     ParticleBins<Dim>& b = bins_[g];
     const size_t n = x.size();
-    reserve_large(&b.particle_slot, n);
-    b.particle_slot.resize(n);
     // Positions are clamped inside the domain, so only a NaN or infinity (an unstable run)
     // can fall outside the slot table; that is the user's problem to hear about, not an abort.
     std::atomic<bool> non_finite{false};
-    parallel_for(n, [&](size_t p) {
-      if (!x[p].allFinite()) {
-        non_finite = true;
-        b.particle_slot[p] = 0;
-        return;
-      }
-      IVec<Dim> c;
-      for (int d = 0; d < Dim; ++d) {
-        const int base = BSpline1D<3>::base_node((x[p][d] - origin_[d]) * inv_dx) + kPad;
-        TEAR_ASSERT(base >= 0 && base < n_nodes_[d] + 2 * kPad);
-        c[d] = base >> kLogBlock;
-      }
-      b.particle_slot[p] = slot_of(c);
-    });
+    if (slots) {
+      TEAR_ASSERT((*slots)[g].size() == n);
+      b.particle_slot.swap((*slots)[g]);
+      if (parallel_any(n, [&](size_t p) { return b.particle_slot[p] < 0; })) non_finite = true;
+    } else {
+      reserve_large(&b.particle_slot, n);
+      b.particle_slot.resize(n);
+      parallel_for(n, [&](size_t p) {
+        b.particle_slot[p] = home_slot(x[p]);
+        if (b.particle_slot[p] < 0) non_finite = true;
+      });
+    }
     if (non_finite)
       throw std::runtime_error(
           "the simulation became unstable (non-finite particle positions); lower time.cfl or "

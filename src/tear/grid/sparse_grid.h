@@ -53,8 +53,25 @@ class SparseGrid {
   // Bin the particles of every group (their positions, one array per group) by home block,
   // activate the blocks their stencils reach, and zero the node fields of the active blocks.
   // Positions must be inside the domain.
-  void bin(const std::vector<const std::vector<Vec<Dim>>*>& groups);
+  // With `slots`, group g's home slots are (*slots)[g] (home_slot of each position, made where
+  // the positions were made: G2P) instead of a pass over the positions; they are swapped into
+  // bins(g).particle_slot, and the vectors left in `slots` are scratch.
+  void bin(const std::vector<const std::vector<Vec<Dim>>*>& groups,
+           std::vector<std::vector<int>>* slots = nullptr);
   void bin(const std::vector<Vec<Dim>>& x) { bin(std::vector<const std::vector<Vec<Dim>>*>{&x}); }
+  // The slot of the home block of a particle at x inside the domain, or -1 where x is not
+  // finite (bin() then refuses the positions).
+  int home_slot(const Vec<Dim>& x) const {
+    if (!x.allFinite()) return -1;
+    const Real inv_dx = Real(1 / dx_);
+    IVec<Dim> c;
+    for (int d = 0; d < Dim; ++d) {
+      const int base = BSpline1D<3>::base_node((x[d] - origin_[d]) * inv_dx) + kPad;
+      TEAR_ASSERT(base >= 0 && base < n_nodes_[d] + 2 * kPad);
+      c[d] = base >> kLogBlock;
+    }
+    return slot_of(c);
+  }
   // Group g's binning at the last bin().
   const ParticleBins<Dim>& bins(size_t g = 0) const { return bins_[g]; }
   size_t num_groups() const { return bins_.size(); }

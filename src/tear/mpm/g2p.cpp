@@ -1,4 +1,5 @@
 // The G2P phase: particle velocity, affine matrix, position and deformation gradient.
+#include "tear/exec/memory.h"
 #include "tear/exec/parallel.h"
 #include "tear/mpm/phases.h"
 #include "tear/mpm/transfer_window.h"
@@ -19,10 +20,15 @@ void gather(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
       Real(settings.flip_relaxation_time > 0 ? std::exp(-double(dt) / settings.flip_relaxation_time)
                                              : settings.flip_ratio);
   const KeptBox<Dim> kept(settings);
+  // The next sort's home slots, made while the new positions are at hand.
+  state->home_slots.resize(state->groups.size());
   // Home blocks in parallel; each copies the nodes its particles reach into a window.
   for (size_t g = 0; g < state->groups.size(); ++g) {
     Particles<Dim>& p = state->groups[g];
     const ParticleBins<Dim>& bins = grid.bins(g);
+    std::vector<int>& slots = state->home_slots[g];
+    reserve_large(&slots, p.size());
+    slots.resize(p.size());
     parallel_for(bins.home_blocks.size(), [&](size_t b) {
       const typename SparseGrid<Dim>::HomeBlock& h = bins.home_blocks[b];
       const BlockWindow<Dim, kTransferOrder> window(grid, h, p.x, bins.order.data());
@@ -58,9 +64,11 @@ void gather(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
         p.F[i] = G * p.F[i];
         p.v[i] = flip ? Vec<Dim>(ratio * (p.v[i] + v - v_old) + (1 - ratio) * v) : v;
         p.x[i] = (p.x[i] + dt * v).cwiseMax(kept.lo).cwiseMin(kept.hi);
+        slots[i] = grid.home_slot(p.x[i]);
       }
     });
   }
+  state->home_slots_step = state->steps + 1;
 }
 
 }  // namespace

@@ -1,5 +1,8 @@
 // The sort phase: particles binned by grid block every step, reordered in memory now and then.
+#include "tear/exec/memory.h"
 #include "tear/exec/parallel.h"
+
+#include <algorithm>
 #include "tear/mpm/phases.h"
 
 namespace tear {
@@ -14,7 +17,10 @@ void sort_particles(MpmState<Dim>* state) {
   std::vector<const std::vector<Vec<Dim>>*> positions;
   for (const Particles<Dim>& g : state->groups) positions.push_back(&g.x);
   SparseGrid<Dim>& grid = state->grid;
-  grid.bin(positions);
+  // G2P's home slots where they describe these positions (no pass over the positions).
+  const bool made = state->home_slots_step == state->steps;
+  state->home_slots_step = -1;
+  grid.bin(positions, made ? &state->home_slots : nullptr);
   std::vector<size_t> reordered;
   for (size_t g = 0; g < state->groups.size(); ++g) {
     Particles<Dim>& p = state->groups[g];
@@ -27,7 +33,18 @@ void sort_particles(MpmState<Dim>* state) {
     }
   }
   if (reordered.empty()) return;
-  grid.bin(positions);
+  // The slots of the reordered groups in their new order (the others' as they are).
+  state->home_slots.resize(state->groups.size());
+  for (size_t g = 0; g < state->groups.size(); ++g) {
+    const std::vector<int>& slot = grid.bins(g).particle_slot;
+    std::vector<int>& next = state->home_slots[g];
+    reserve_large(&next, slot.size());
+    next.resize(slot.size());
+    const bool moved = std::find(reordered.begin(), reordered.end(), g) != reordered.end();
+    const uint32_t* order = grid.bins(g).order.data();
+    parallel_for(slot.size(), [&](size_t k) { next[k] = slot[moved ? order[k] : k]; });
+  }
+  grid.bin(positions, &state->home_slots);
   for (size_t g : reordered) {
     const std::vector<int>& slot = grid.bins(g).particle_slot;
     std::copy(slot.begin(), slot.end(), state->groups[g].reorder_slot.begin());

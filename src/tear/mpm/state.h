@@ -20,6 +20,11 @@ struct MpmState {
   // The implicit integrator's auto preconditioner has switched to multigrid: later steps start
   // with it (checkpointed, so that a resumed run takes the same path).
   bool implicit_multigrid = false;
+  // Each group's home slots (SparseGrid::home_slot) of the positions as G2P left them, for the
+  // next sort: valid while home_slots_step == steps (G2P sets it to the step it ends; any other
+  // change of positions must set it to -1).
+  std::vector<std::vector<int>> home_slots;
+  long home_slots_step = -1;
 
   size_t num_particles() const {
     size_t n = 0;

@@ -1,0 +1,85 @@
+// The sort phase takes the home slots G2P made while it moved the particles (no pass over the
+// positions of its own): the binning must be the one a pass over the positions gives, step
+// after step, through reorders, for several groups, and where a caller moved particles by hand.
+#include "mpm_test_util.h"
+#include "tear/mpm/phases.h"
+
+#include <gtest/gtest.h>
+
+namespace tear {
+namespace {
+using testing::basic_scene;
+using testing::lattice_block;
+using testing::MpmSim;
+
+// The state's binning equals a fresh grid's binning of the same positions.
+template <int Dim>
+void expect_bins_of_positions(const MpmSettings& settings, const MpmState<Dim>& state) {
+  SparseGrid<Dim> fresh;
+  fresh.setup(settings.domain_min, settings.domain_max, settings.dx);
+  std::vector<const std::vector<Vec<Dim>>*> positions;
+  for (const Particles<Dim>& g : state.groups) positions.push_back(&g.x);
+  fresh.bin(positions);
+  ASSERT_EQ(fresh.num_blocks(), state.grid.num_blocks());
+  for (size_t g = 0; g < state.groups.size(); ++g) {
+    const ParticleBins<Dim>& a = state.grid.bins(g);
+    const ParticleBins<Dim>& b = fresh.bins(g);
+    EXPECT_EQ(a.particle_slot, b.particle_slot) << "group " << g;
+    EXPECT_EQ(a.order, b.order) << "group " << g;
+    ASSERT_EQ(a.home_blocks.size(), b.home_blocks.size()) << "group " << g;
+    for (size_t h = 0; h < a.home_blocks.size(); ++h) {
+      EXPECT_EQ(a.home_blocks[h].slot, b.home_blocks[h].slot);
+      EXPECT_EQ(a.home_blocks[h].begin, b.home_blocks[h].begin);
+      EXPECT_EQ(a.home_blocks[h].end, b.home_blocks[h].end);
+    }
+  }
+}
+
+template <int Dim>
+void check_sort_uses_g2p_slots() {
+  // A fast spinning, drifting block in two groups (every other particle): particles cross
+  // block boundaries every few steps, and the groups are reordered in memory now and then.
+  const Scene s =
+      basic_scene(Dim, 0.05, Vec3d::Zero(), Vec3d::Constant(2.0), Model::FixedCorotated, 1e3, 0.3,
+                  1, 3);
+  const Vec<Dim> lo = Vec<Dim>::Constant(Real(0.6)), hi = Vec<Dim>::Constant(Real(1.1));
+  const Vec<Dim> c = (lo + hi) / 2;
+  const Particles<Dim> all = lattice_block<Dim>(s, lo, hi, 2, [&](const Vec<Dim>& x) {
+    Vec<Dim> v = Vec<Dim>::Constant(Real(0.8));
+    v[0] += -Real(6) * (x[1] - c[1]);
+    v[1] += Real(6) * (x[0] - c[0]);
+    return v;
+  });
+  std::vector<Particles<Dim>> groups(2);
+  for (size_t i = 0; i < all.size(); ++i)
+    groups[i % 2].push_back(all.x[i], all.v[i], all.fiber[i], all.mass[i], all.vol0[i],
+                            all.material[i]);
+  MpmSim<Dim> sim(s, std::move(groups));
+  const std::vector<uint32_t> ids_before = sim.state().groups[0].id;
+  const double dt = sim.estimate_dt();
+  constexpr int kSteps = 100;
+  int made = 0;
+  for (int i = 0; i < kSteps; ++i) {
+    sim.step(dt);
+    MpmState<Dim>& state = sim.state();
+    made += state.home_slots_step == state.steps;
+    sort_particles(&state);  // what the next step starts with
+    expect_bins_of_positions(sim.settings(), state);
+    if (::testing::Test::HasFailure()) return;
+  }
+  EXPECT_EQ(made, kSteps);
+  EXPECT_NE(sim.state().groups[0].id, ids_before);  // reordered in memory on the way
+  // A caller that moves particles itself says so; the sort then looks at the positions.
+  sim.step(dt);
+  MpmState<Dim>& state = sim.state();
+  for (Vec<Dim>& x : state.groups[1].x) x = (x + Vec<Dim>::Constant(Real(0.2))).eval();
+  state.home_slots_step = -1;
+  sort_particles(&state);
+  expect_bins_of_positions(sim.settings(), state);
+}
+
+TEST(Sort, BinsFromG2pSlotsEqualABinningOfThePositions2D) { check_sort_uses_g2p_slots<2>(); }
+TEST(Sort, BinsFromG2pSlotsEqualABinningOfThePositions3D) { check_sort_uses_g2p_slots<3>(); }
+
+}  // namespace
+}  // namespace tear
