@@ -40,14 +40,15 @@ class MpmSimulation final : public Simulation {
     if (const char* env = std::getenv("TEAR_TEST_INJECT_NAN"))
       std::sscanf(env, "%ld,%u", &inject_nan_step_, &inject_nan_id_);
     speed2_ = speed2_or_fault(settings_, state_);
-    if (const ParticleFault f = find_particle_fault(settings_, state_))
-      throw std::runtime_error(
-          describe(f, true) +
-          (f.kind == ParticleFault::Kind::LeftDomain
-               ? ": particles must start inside the grid's domain less one cell (dx) at each "
-                 "face, where they are kept; move the object inward or enlarge "
-                 "grid.domain_min/max"
-               : ""));
+    if (std::isinf(speed2_))
+      if (const ParticleFault f = find_particle_fault(settings_, state_))
+        throw std::runtime_error(
+            describe(f, true) +
+            (f.kind == ParticleFault::Kind::LeftDomain
+                 ? ": particles must start inside the grid's domain less one cell (dx) at each "
+                   "face, where they are kept; move the object inward or enlarge "
+                   "grid.domain_min/max"
+                 : ""));
     // The optional frame columns the scene asks for (output.fields).
     for (Particles<Dim>& g : state_.groups)
       for (const std::string& name : scene.output_fields) g.enable(name);

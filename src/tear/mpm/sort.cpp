@@ -1,9 +1,9 @@
 // The sort phase: particles binned by grid block every step, reordered in memory now and then.
 #include "tear/exec/memory.h"
 #include "tear/exec/parallel.h"
+#include "tear/mpm/phases.h"
 
 #include <algorithm>
-#include "tear/mpm/phases.h"
 
 namespace tear {
 
