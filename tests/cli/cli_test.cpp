@@ -336,6 +336,16 @@ TEST_F(Cli, CheckPrintsTheCrackOnsetStretch) {
   // The scene-wide settings: the solver, l0 and whether crack fields split the grid.
   EXPECT_NE(out_.find("cracking   explicit damage solver, l0 "), std::string::npos) << out_;
   EXPECT_NE(out_.find(", one velocity field (the paper's"), std::string::npos) << out_;
+  // The pointer to the sharp-crack recipe: for fibered damage with the paper's method only.
+  const std::string recipe = "Cracks that follow the fibers and stay sharp";
+  EXPECT_EQ(out_.find(recipe), std::string::npos) << out_;  // surface_anisotropy is set
+  json paper = tearing_scene();
+  paper["damage"]["solver"] = "explicit";
+  ASSERT_EQ(tear("check " + write_scene(paper)), 0) << err_;
+  EXPECT_NE(out_.find(recipe), std::string::npos) << out_;
+  paper["materials"]["m"]["damage"]["alpha"] = 0;
+  ASSERT_EQ(tear("check " + write_scene(paper)), 0) << err_;
+  EXPECT_EQ(out_.find(recipe), std::string::npos) << out_;  // isotropic damage
   aniso["damage"]["split_fields"] = true;
   aniso["damage"]["split_damage"] = 0.3;
   ASSERT_EQ(tear("check " + write_scene(aniso)), 0) << err_;

@@ -515,6 +515,21 @@ int check_scene(const std::string& scene_path, const std::vector<std::string>& o
         out << "crack fields (a node splits at damage " << s.damage.split_damage << ")\n";
       else
         out << "one velocity field (the paper's; damage.split_fields for crack fields)\n";
+      // The paper's method is the default on purpose (docs/materials.md); say what it does
+      // to fibered materials where the recipe for sharp cracks could be used instead.
+      const bool fibered = std::any_of(
+          s.materials.begin(), s.materials.end(), [](const MaterialSpec& m) {
+            return m.damage.enabled && (m.damage.alpha[0] != 0 || m.damage.alpha[1] != 0) &&
+                   !m.damage.anisotropic_surface();
+          });
+      const bool inextensible =
+          std::any_of(s.materials.begin(), s.materials.end(),
+                      [](const MaterialSpec& m) { return m.inextensibility.enabled; });
+      if (fibered && !s.damage.split_fields && s.integrator == Integrator::Explicit &&
+          !inextensible)
+        out << "           (paper's method: where crack faces slide, bands widen to 7-8 particle "
+               "spacings and cracks may cross the fibers; for sharp cracks along them see "
+               "docs/materials.md, \"Cracks that follow the fibers and stay sharp\")\n";
     }
     const nlohmann::json& objects = s.resolved.at("objects");
     for (size_t i = 0; i < s.objects.size(); ++i) {
