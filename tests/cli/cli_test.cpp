@@ -264,9 +264,15 @@ TEST_F(Cli, UsageErrorsExitTwo) {
 
 TEST_F(Cli, InfoAndQuickBench) {
   EXPECT_EQ(tear("info"), 0) << err_;
-  for (const char* k : {"precision", "asserts", "compiler", "eigen", "onetbb", "threads", "embree",
-                        "libpng", "openvdb", "ffmpeg"})
+  for (const char* k : {"precision", "asserts", "compiler", "simd", "eigen", "onetbb", "threads",
+                        "embree", "libpng", "openvdb", "ffmpeg"})
     EXPECT_NE(out_.find(k), std::string::npos) << k;
+  // The build's vector instructions: SSE2 at least on x86-64; FMA never (its rounding differs
+  // between Eigen's scalar and vector paths: CMakeLists.txt, TEAR_NATIVE).
+#if defined(__x86_64__)
+  EXPECT_NE(out_.find("SSE2"), std::string::npos) << out_;
+#endif
+  EXPECT_EQ(out_.find("FMA"), std::string::npos) << out_;
   // stdout is exactly one JSON object; notes go to stderr.
   ASSERT_EQ(tear("bench --quick --threads-list 1,2"), 0) << err_;
   const json b = json::parse(out_);

@@ -593,6 +593,14 @@ void print_info(std::ostream& out) {
   out << "asserts     off\n";
 #endif
   out << "compiler    " << __VERSION__ << "\n";
+  // The vector instructions Eigen was compiled for: this machine's (TEAR_NATIVE, the default
+  // for local builds) or the portable baseline.
+  out << "simd        " << Eigen::SimdInstructionSetsInUse()
+#ifdef TEAR_NATIVE_BUILD
+      << " (this machine's: TEAR_NATIVE)\n";
+#else
+      << " (portable: TEAR_NATIVE off)\n";
+#endif
   out << "eigen       " << EIGEN_WORLD_VERSION << "." << EIGEN_MAJOR_VERSION << "."
       << EIGEN_MINOR_VERSION << "\n";
   out << "onetbb      " << threading_library_version() << "\n";
