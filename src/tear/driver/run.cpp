@@ -593,8 +593,8 @@ void print_info(std::ostream& out) {
   out << "asserts     off\n";
 #endif
   out << "compiler    " << __VERSION__ << "\n";
-  // The vector instructions Eigen was compiled for: this machine's (TEAR_NATIVE, the default
-  // for local builds) or the portable baseline.
+  // The vector instructions Eigen was compiled for: the portable baseline or, with
+  // TEAR_NATIVE, this machine's.
   out << "simd        " << Eigen::SimdInstructionSetsInUse()
 #ifdef TEAR_NATIVE_BUILD
       << " (this machine's: TEAR_NATIVE)\n";
