@@ -144,7 +144,8 @@ TEST(FieldRegistry, CheckpointRecordsRoundTripEveryStateField) {
   put_fields(s, &w);
   TestStore back;
   back.enable_like(s);
-  ByteReader r(w.bytes());
+  const std::string bytes = w.bytes();
+  ByteReader r(bytes);
   get_fields(&r, 5, &back);
   EXPECT_TRUE(r.at_end());
   ASSERT_EQ(back.size(), 5u);
@@ -160,8 +161,9 @@ TEST(FieldRegistry, CheckpointRecordsRoundTripEveryStateField) {
 TEST(FieldRegistry, CheckpointOfOtherFieldsIsRefusedByName) {
   TestStore s = store_of(2);
   s.enable("sometimes");
-  ByteWriter w;
-  put_fields(s, &w);
+  ByteWriter writer;
+  put_fields(s, &writer);
+  const std::string bytes = writer.bytes();
   auto error_of = [](const std::string& bytes, size_t n, TestStore* store) {
     ByteReader r(bytes);
     try {
@@ -172,7 +174,7 @@ TEST(FieldRegistry, CheckpointOfOtherFieldsIsRefusedByName) {
     return std::string("accepted");
   };
   TestStore without;  // "sometimes" not enabled: the checkpoint has one field more
-  EXPECT_NE(error_of(w.bytes(), 2, &without).find("more than"), std::string::npos);
+  EXPECT_NE(error_of(bytes, 2, &without).find("more than"), std::string::npos);
   // A store that declares a field the checkpoint lacks names it.
   ByteWriter w_without;
   put_fields(without = store_of(2), &w_without);
@@ -183,9 +185,9 @@ TEST(FieldRegistry, CheckpointOfOtherFieldsIsRefusedByName) {
   EXPECT_NE(missing.find("\"sometimes\""), std::string::npos) << missing;
   TestStore other;
   other.enable("sometimes");
-  ByteReader r2(w.bytes());
+  ByteReader r2(bytes);
   EXPECT_THROW(get_fields(&r2, 3, &other), std::runtime_error);  // wrong particle count
-  const std::string cut = w.bytes().substr(0, w.bytes().size() - 1);
+  const std::string cut = bytes.substr(0, bytes.size() - 1);
   ByteReader r3(cut);
   EXPECT_THROW(get_fields(&r3, 2, &other), std::runtime_error);  // truncated
 }

@@ -158,12 +158,9 @@ class MpmSimulation final : public Simulation {
     return table_;
   }
 
-  std::string encode_checkpoint() const override {
+  ByteWriter checkpoint() const override {
     ByteWriter w;
-    w.bytes() = kCheckpointMagic;
-    size_t bytes = 256;  // the header
-    for (const Particles<Dim>& g : state_.groups) bytes += fields_bytes(g);
-    reserve_large(&w.bytes(), bytes);  // one allocation: growing costs more than the copy
+    w.put_bytes(kCheckpointMagic);
     w.put<int32_t>(Dim);
     w.put<int32_t>(sizeof(Real));
     w.put<uint32_t>(uint32_t(state_.groups.size()));
@@ -197,8 +194,8 @@ class MpmSimulation final : public Simulation {
     w.put<double>(xs.residual_max);
     w.put<int64_t>(xs.unconverged);
     for (const Particles<Dim>& g : state_.groups) put_fields(g, &w);
-    append_checksum(&w.bytes());
-    return std::move(w.bytes());
+    put_checksum(&w);
+    return w;
   }
 
   void decode_checkpoint(const std::string& bytes) override {

@@ -4,6 +4,7 @@
 // fem/), with io/ for tables and checkpoint records.
 #pragma once
 
+#include "tear/io/binary.h"
 #include "tear/io/point_table.h"
 #include "tear/mpm/time_step.h"
 #include "tear/scene/scene.h"
@@ -95,8 +96,12 @@ class Simulation {
   // Bytes of memory now held by particles and grid.
   virtual size_t memory_bytes() const = 0;
   // Restartable state: particles in their current order, time, frame and step counters.
-  // A run resumed from it continues bit-identically to one that never stopped.
-  virtual std::string encode_checkpoint() const = 0;
+  // A run resumed from it continues bit-identically to one that never stopped. The particle
+  // fields are referenced where they are (no copy of the state): use the bytes before the
+  // simulation changes.
+  virtual ByteWriter checkpoint() const = 0;
+  // The same bytes in one string.
+  std::string encode_checkpoint() const { return checkpoint().bytes(); }
   // Throws std::runtime_error with the reason if the bytes are not a checkpoint of this scene
   // (format, dimension, particle count, fields).
   virtual void decode_checkpoint(const std::string& bytes) = 0;

@@ -1,5 +1,6 @@
 #include "tear/io/atomic_file.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -39,7 +40,7 @@ int injected_failure(const std::string& path) {
 // The temporary sits in the target's folder, so rename() stays on one file system and is
 // atomic: a reader sees the old file or the new one, never a mix. No fsync: this guards
 // against readers during the run, not against power loss.
-void write_file_atomic(const std::string& path, const std::string& bytes) {
+void write_file_atomic(const std::string& path, const ByteWriter& bytes) {
   const fs::path target(path);
   if (target.filename().empty())
     throw std::runtime_error("'" + path + "': cannot write: not a file name");
@@ -50,13 +51,15 @@ void write_file_atomic(const std::string& path, const std::string& bytes) {
   if (!f) throw os_error(path, "cannot write", injected ? injected : errno);
   int err = 0;
   errno = 0;
-  if (injected) {
-    std::fwrite(bytes.data(), 1, bytes.size() / 2, f);
-    err = injected;
-  } else if (std::fwrite(bytes.data(), 1, bytes.size(), f) != bytes.size() ||
-             std::fflush(f) != 0) {
-    err = errno ? errno : EIO;
-  }
+  // Half the bytes where a failure is injected, then the failure.
+  size_t left = injected ? bytes.size() / 2 : bytes.size();
+  bytes.for_each_piece([&](const char* data, size_t size) {
+    const size_t k = std::min(size, left);
+    if (err == 0 && k > 0 && std::fwrite(data, 1, k, f) != k) err = errno ? errno : EIO;
+    left -= k;
+  });
+  if (injected) err = injected;
+  if (err == 0 && std::fflush(f) != 0) err = errno ? errno : EIO;
   if (std::fclose(f) != 0 && err == 0) err = errno ? errno : EIO;
   if (err != 0) {
     std::remove(temp.c_str());
@@ -67,6 +70,12 @@ void write_file_atomic(const std::string& path, const std::string& bytes) {
     std::remove(temp.c_str());
     throw os_error(path, "cannot replace", err);
   }
+}
+
+void write_file_atomic(const std::string& path, const std::string& bytes) {
+  ByteWriter w;
+  w.put_view(bytes.data(), bytes.size());
+  write_file_atomic(path, w);
 }
 
 int remove_stale_temporaries(const std::string& dir) {

@@ -2,6 +2,8 @@
 // so a reader never sees half a file.
 #pragma once
 
+#include "tear/io/binary.h"
+
 #include <string>
 #include <vector>
 
@@ -14,6 +16,8 @@ namespace tear {
 // fails as the disk being full (half the bytes written, then ENOSPC) or permission denied (at
 // the open).
 void write_file_atomic(const std::string& path, const std::string& bytes);
+// The same for bytes in pieces, each written from where it is.
+void write_file_atomic(const std::string& path, const ByteWriter& bytes);
 
 // Removes the temporaries write_file_atomic leaves when the process is killed mid-write
 // (".NAME.tmp.PID" files) from folder `dir`; returns how many. A missing folder has none.

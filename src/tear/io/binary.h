@@ -12,21 +12,54 @@
 
 namespace tear {
 
+// Bytes written in order: values copied in (put, put_vector, put_bytes) or memory referenced
+// in place (put_view), which must stay as it is until the bytes are used: a checkpoint's
+// particle fields go to the file from where they are, without a copy of the state.
 class ByteWriter {
  public:
   template <class T>
   void put(const T& value) {
-    bytes_.append(reinterpret_cast<const char*>(&value), sizeof(T));
+    put_bytes(reinterpret_cast<const char*>(&value), sizeof(T));
   }
   template <class T>
   void put_vector(const std::vector<T>& values) {
     put<uint64_t>(values.size());
-    bytes_.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+    put_bytes(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
   }
-  std::string& bytes() { return bytes_; }
+  void put_bytes(const char* data, size_t size) {
+    if (pieces_.empty() || pieces_.back().view) pieces_.emplace_back();
+    pieces_.back().owned.append(data, size);
+  }
+  void put_bytes(const std::string& bytes) { put_bytes(bytes.data(), bytes.size()); }
+  void put_view(const char* data, size_t size) {
+    if (size > 0) pieces_.push_back({{}, data, size});
+  }
+  size_t size() const {
+    size_t n = 0;
+    for_each_piece([&](const char*, size_t k) { n += k; });
+    return n;
+  }
+  // fn(data, size) for each piece, in order.
+  template <class Fn>
+  void for_each_piece(Fn&& fn) const {
+    for (const Piece& p : pieces_)
+      p.view ? fn(p.view, p.size) : fn(p.owned.data(), p.owned.size());
+  }
+  // All the bytes in one string.
+  std::string bytes() const {
+    std::string out;
+    out.reserve(size());
+    for_each_piece([&](const char* data, size_t k) { out.append(data, k); });
+    return out;
+  }
 
  private:
-  std::string bytes_;
+  struct Piece {
+    std::string owned;
+    const char* view = nullptr;  // or memory referenced in place
+    size_t size = 0;
+  };
+  std::vector<Piece> pieces_;
 };
 
 // Throws std::runtime_error("truncated ...") when the input ends early.
@@ -70,32 +103,62 @@ class ByteReader {
   size_t pos_, end_;
 };
 
-// A 64-bit checksum of `size` bytes (8 at a time, multiply-xorshift mixing; not
-// cryptographic): it catches truncation, bit flips and torn writes of checkpoints.
-inline uint64_t checksum64(const char* data, size_t size) {
-  uint64_t h = 0x9e3779b97f4a7c15ull ^ size;
-  const auto mix = [&](uint64_t w) {
-    h ^= w;
-    h *= 0xbf58476d1ce4e5b9ull;
-    h ^= h >> 31;
-  };
-  size_t i = 0;
-  for (; i + 8 <= size; i += 8) {
-    uint64_t w;
-    std::memcpy(&w, data + i, 8);
-    mix(w);
+// A 64-bit checksum of `total` bytes (8 at a time, multiply-xorshift mixing; not
+// cryptographic): it catches truncation, bit flips and torn writes of checkpoints. Fed in
+// pieces of any size (add), as if they were one array.
+class Checksum64 {
+ public:
+  explicit Checksum64(size_t total) : h_(0x9e3779b97f4a7c15ull ^ total) {}
+  void add(const char* data, size_t size) {
+    if (pending_ > 0) {  // complete the word a previous piece began
+      const size_t k = std::min(8 - pending_, size);
+      std::memcpy(word_ + pending_, data, k);
+      pending_ += k, data += k, size -= k;
+      if (pending_ < 8) return;
+      mix(word_);
+      pending_ = 0;
+    }
+    for (; size >= 8; data += 8, size -= 8) mix(data);
+    std::memcpy(word_, data, size);
+    pending_ = size;
   }
-  uint64_t tail = 0;
-  std::memcpy(&tail, data + i, size - i);
-  mix(tail);
-  h *= 0x94d049bb133111ebull;
-  return h ^ (h >> 29);
+  uint64_t finish() {
+    std::memset(word_ + pending_, 0, 8 - pending_);  // the tail, zero-padded (maybe empty)
+    mix(word_);
+    h_ *= 0x94d049bb133111ebull;
+    return h_ ^ (h_ >> 29);
+  }
+
+ private:
+  void mix(const char* bytes) {
+    uint64_t w;
+    std::memcpy(&w, bytes, 8);
+    h_ ^= w;
+    h_ *= 0xbf58476d1ce4e5b9ull;
+    h_ ^= h_ >> 31;
+  }
+  uint64_t h_;
+  char word_[8];
+  size_t pending_ = 0;
+};
+
+inline uint64_t checksum64(const char* data, size_t size) {
+  Checksum64 c(size);
+  c.add(data, size);
+  return c.finish();
 }
 
 // Appends the checksum of `bytes` to it.
 inline void append_checksum(std::string* bytes) {
   const uint64_t c = checksum64(bytes->data(), bytes->size());
   bytes->append(reinterpret_cast<const char*>(&c), sizeof(c));
+}
+
+// Puts the checksum of what `w` holds so far.
+inline void put_checksum(ByteWriter* w) {
+  Checksum64 c(w->size());
+  w->for_each_piece([&](const char* data, size_t size) { c.add(data, size); });
+  w->put<uint64_t>(c.finish());
 }
 
 // Whether `bytes` ends with the checksum of what precedes it (append_checksum); the payload is

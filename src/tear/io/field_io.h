@@ -30,7 +30,8 @@ size_t fields_bytes(const FieldRegistry& store);
 std::vector<uint32_t> rows_by_id(const std::vector<uint32_t>& id);
 
 // The state fields of `store` (enabled ones, declaration order): for each its name, element
-// size, count and bytes.
+// size, count and bytes (the bytes referenced in place: `store` must not change until `w` is
+// used).
 void put_fields(const FieldRegistry& store, ByteWriter* w);
 // Reads what put_fields wrote into `store`'s state fields. Throws std::runtime_error("corrupt
 // checkpoint (...)") naming the field when the names, element sizes or counts differ from the

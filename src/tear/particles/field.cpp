@@ -26,7 +26,23 @@ void FieldRegistry::add_derived(FieldColumns columns,
 void FieldRegistry::columns(const Entry& e, size_t i, double* out) const {
   const int n = int(e.info_.columns.names.size());
   if (e.derived_) return e.derived_(*this, i, out);
-  for (int k = 0; k < n; ++k) out[k] = k < e.components_ ? e.component_(at(e), i, k) : 0.0;
+  double* column[8];
+  TEAR_ASSERT(n <= 8);
+  for (int c = 0; c < n; ++c) column[c] = out + c;
+  const uint32_t row = uint32_t(i);
+  e.columns_(at(e), &row, 1, n, column);
+}
+
+void FieldRegistry::columns(const Entry& e, const uint32_t* rows, size_t count,
+                            double* const* out) const {
+  const int n = int(e.info_.columns.names.size());
+  if (!e.derived_) return e.columns_(at(e), rows, count, n, out);
+  double row[8];
+  TEAR_ASSERT(n <= 8);
+  for (size_t k = 0; k < count; ++k) {
+    e.derived_(*this, rows[k], row);
+    for (int c = 0; c < n; ++c) out[c][k] = row[c];
+  }
 }
 
 void FieldRegistry::resize(size_t n) {

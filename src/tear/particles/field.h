@@ -110,7 +110,9 @@ class FieldRegistry {
                      std::vector<char>* scratch) = nullptr;
     // Remove the elements at ascending indices `which`, keeping the others in order.
     void (*erase_)(void*, const std::vector<uint32_t>& which) = nullptr;
-    double (*component_)(const void*, size_t, int) = nullptr;
+    // out[c][k] = column c of element rows[k], k < count, for the n_out frame columns.
+    void (*columns_)(const void*, const uint32_t* rows, size_t count, int n_out,
+                     double* const* out) = nullptr;
   };
 
   FieldRegistry() = default;
@@ -161,6 +163,8 @@ class FieldRegistry {
   // The frame-column values of particle i for entry e: e.info().columns.names.size() numbers
   // (components beyond the value's are 0).
   void columns(const Entry& e, size_t i, double* out) const;
+  // The same for particles rows[0 .. count): out[c][k] is column c of particle rows[k].
+  void columns(const Entry& e, const uint32_t* rows, size_t count, double* const* out) const;
 
   // Bytes of one particle over the enabled fields (state and scratch).
   size_t bytes_per_particle() const;
@@ -248,8 +252,17 @@ void FieldRegistry::add(std::vector<T>* field, FieldInfo info, T default_value) 
   e.reserve_ = [](void* f, size_t n) { reserve_large(static_cast<V*>(f), n); };
   e.capacity_ = [](const void* f) { return static_cast<const V*>(f)->capacity(); };
   e.data_ = [](void* f) { return reinterpret_cast<char*>(static_cast<V*>(f)->data()); };
-  e.component_ = [](const void* f, size_t i, int k) {
-    return FieldValue<T>::component((*static_cast<const V*>(f))[i], k);
+  e.columns_ = [](const void* f, const uint32_t* rows, size_t count, int n_out,
+                  double* const* out) {
+    const V& v = *static_cast<const V*>(f);
+    for (int c = 0; c < n_out; ++c) {
+      double* column = out[c];
+      if (c >= FieldValue<T>::kComponents) {
+        std::fill(column, column + count, 0.0);
+        continue;
+      }
+      for (size_t k = 0; k < count; ++k) column[k] = FieldValue<T>::component(v[rows[k]], c);
+    }
   };
   e.permute_ = [](void* f, const std::vector<uint32_t>& order, std::vector<char>* scratch) {
     V& v = *static_cast<V*>(f);
