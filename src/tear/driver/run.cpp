@@ -237,7 +237,7 @@ std::vector<std::string> stats_up_to(const std::string& path, int frame) {
 // checkpoint is on disk at every moment: a run killed between the two steps leaves
 // previous.bin, and --resume falls back to it.
 void write_checkpoint(const std::string& latest, const std::string& previous,
-                      const std::string& bytes) {
+                      const ByteWriter& bytes) {
   if (fs::exists(latest)) fs::rename(latest, previous);
   write_file_atomic(latest, bytes);
 }
@@ -370,7 +370,7 @@ int run_scene(const RunOptions& o) {
     // Checkpoints keep the previous one until the new one is complete; `kept` tells an error
     // message which frame a --resume would continue from.
     auto checkpoint = [&] {
-      write_checkpoint(checkpoint_path, previous_path, sim->encode_checkpoint());
+      write_checkpoint(checkpoint_path, previous_path, sim->checkpoint());
       kept = kept_text(*sim);
     };
     // A stop requested by a signal: checkpoint where the run is (mid-frame too) and say so.
@@ -555,7 +555,7 @@ int check_scene(const std::string& scene_path, const std::vector<std::string>& o
     const PointTable table = sim->frame_table();
     size_t frame_bytes = 0;
     for (const std::string& f : s.formats) frame_bytes += encode_points(table, f).size();
-    const size_t checkpoint = sim->encode_checkpoint().size();
+    const size_t checkpoint = sim->checkpoint().size();
     // Frame 0, every output_every-th frame, and the last frame.
     const int written = 1 + s.frames / s.output_every + (s.frames % s.output_every != 0 ? 1 : 0);
     out << "particles  " << sim->num_particles() << "\n";
@@ -593,9 +593,15 @@ void print_info(std::ostream& out) {
   out << "asserts     off\n";
 #endif
   out << "compiler    " << __VERSION__ << "\n";
-  // The vector instructions Eigen was compiled for: the portable baseline or, with
-  // TEAR_NATIVE, this machine's.
-  out << "simd        " << Eigen::SimdInstructionSetsInUse()
+  // The vector instructions Eigen was compiled for (128-bit in every build: CMakeLists.txt,
+  // TEAR_NATIVE) and those of the transfers' lanes (math/lanes.h): AVX in native builds on
+  // machines that have it.
+  out << "simd        Eigen " << Eigen::SimdInstructionSetsInUse() << "; transfers "
+#if defined(__AVX__) || defined(TEAR_LANES_AVX)
+      << "AVX"
+#else
+      << "SSE2"
+#endif
 #ifdef TEAR_NATIVE_BUILD
       << " (this machine's: TEAR_NATIVE)\n";
 #else

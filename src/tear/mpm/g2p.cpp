@@ -32,38 +32,51 @@ void gather(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
     parallel_for(bins.home_blocks.size(), [&](size_t b) {
       const typename SparseGrid<Dim>::HomeBlock& h = bins.home_blocks[b];
       const BlockWindow<Dim, kTransferOrder> window(grid, h, p.x, bins.order.data());
-      thread_local TransferWindow<Dim, kFlip, kSplit> win;
-      win.template load<false>(grid, window);
+      using Win = GatherWindow<Dim, kFlip, kSplit>;
+      using Node = typename Win::Node;
+      thread_local Win win;
+      win.load(grid, window);
       constexpr int kSecond = kSplit ? 1 : 0;
-      const Vec<Dim>* const velocity[2] = {win.field[0].v.data(), win.field[kSecond].v.data()};
-      const Vec<Dim>* const velocity_old[2] = {win.field[0].v_old.data(),
-                                               win.field[kSecond].v_old.data()};
+      const Node* const velocity[2] = {win.velocity[0].data(), win.velocity[kSecond].data()};
+      const Node* const velocity_old[2] = {win.velocity_old[0].data(),
+                                           win.velocity_old[kSecond].data()};
       const Vec<Dim>* const normal = win.normal.data();
       for (uint32_t k = h.begin; k < h.end; ++k) {
         const uint32_t i = bins.order[k];
-        Vec<Dim> v = Vec<Dim>::Zero(), v_old = Vec<Dim>::Zero();
-        Mat<Dim> B = Mat<Dim>::Zero();
+        // In lanes: v, the force-free v and the columns of B = sum w v_i (x_i - x_p)^T.
+        Node v{}, v_old{}, B[Dim];
+        for (int c = 0; c < Dim; ++c) B[c] = Node{};
         WindowStencil<Dim, kTransferOrder>(window, p.x[i]).visit([&](int wn, Real w,
                                                                      const Vec<Dim>& rel) {
           int f = 0;
           if constexpr (kSplit) f = second_field(normal[wn], p.damage_gradient[i]) ? 1 : 0;
-          const Vec<Dim> wv = w * velocity[f][wn];
+          const Node wv = w * velocity[f][wn];
           v += wv;
-          for (int c = 0; c < Dim; ++c) B.col(c) += wv * rel[c];  // B += wv (x_i - x_p)^T
+          for (int c = 0; c < Dim; ++c) B[c] += wv * rel[c];
           if constexpr (flip) v_old += w * velocity_old[f][wn];
         });
-        // C = B D^-1 (the APIC velocity gradient estimate), F <- (I + dt C) F, column by
-        // column: B's columns are stored in pieces (two rows packed, one alone), and reading
-        // the matrix whole at other offsets stalls on store forwarding (a fifth of G2P).
+        // C = B D^-1 (the APIC velocity gradient estimate), F <- (I + dt C) F, in lanes
+        // (column c of G = I + dt C in lanes; column b of G F sums G's columns times F(c, b)
+        // in order, as Eigen's product does); scalars go out, no vector is read back.
         Mat<Dim>& C = p.C[i];
-        Mat<Dim> G;
+        Node G[Dim];
         for (int c = 0; c < Dim; ++c) {
-          C.col(c) = B.col(c) * inv_d;
-          G.col(c) = Vec<Dim>::Unit(c) + dt * C.col(c);
+          const Node Cc = B[c] * inv_d;
+          Node unit{};
+          unit[c] = 1;
+          G[c] = unit + dt * Cc;
+          for (int a = 0; a < Dim; ++a) C(a, c) = Cc[a];
         }
-        p.F[i] = G * p.F[i];
-        p.v[i] = flip ? Vec<Dim>(ratio * (p.v[i] + v - v_old) + (1 - ratio) * v) : v;
-        p.x[i] = (p.x[i] + dt * v).cwiseMax(kept.lo).cwiseMin(kept.hi);
+        const Mat<Dim> F = p.F[i];
+        for (int b = 0; b < Dim; ++b) {
+          Node col = G[0] * F(0, b);
+          for (int c = 1; c < Dim; ++c) col += G[c] * F(c, b);
+          for (int a = 0; a < Dim; ++a) p.F[i](a, b) = col[a];
+        }
+        Vec<Dim> vg, vg_old;
+        for (int a = 0; a < Dim; ++a) vg[a] = v[a], vg_old[a] = v_old[a];
+        p.v[i] = flip ? Vec<Dim>(ratio * (p.v[i] + vg - vg_old) + (1 - ratio) * vg) : vg;
+        p.x[i] = (p.x[i] + dt * vg).cwiseMax(kept.lo).cwiseMin(kept.hi);
         slots[i] = grid.home_slot(p.x[i]);
       }
     });

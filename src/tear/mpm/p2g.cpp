@@ -43,38 +43,38 @@ void scatter(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
     const Particles<Dim>& p = state->groups[g];
     const uint32_t* order = grid.bins(g).order.data();
     const BlockWindow<Dim, kTransferOrder> window(grid, h, p.x, order);
-    thread_local TransferWindow<Dim, kFlip, kSplit> win;
-    win.template load<true>(grid, window);
+    using Win = ScatterWindow<Dim, kFlip, kSplit>;
+    using Node = typename Win::Node;
+    thread_local Win win;
+    win.load(grid, window);
     constexpr int kSecond = kSplit ? 1 : 0;
-    Real* const mass[2] = {win.field[0].m.data(), win.field[kSecond].m.data()};
-    Vec<Dim>* const momentum[2] = {win.field[0].v.data(), win.field[kSecond].v.data()};
-    Vec<Dim>* const momentum_old[2] = {win.field[0].v_old.data(),
-                                       win.field[kSecond].v_old.data()};
+    Node* const mass_momentum[2] = {win.mass_momentum[0].data(), win.mass_momentum[kSecond].data()};
+    Node* const momentum_old[2] = {win.momentum_old[0].data(), win.momentum_old[kSecond].data()};
     const Vec<Dim>* const normal = win.normal.data();
     for (uint32_t k = h.begin; k < h.end; ++k) {
       const uint32_t i = order[k];
       // MLS-MPM: the stress enters as an affine momentum term (Hu et al. 2018, Eq. 29).
-      Mat<Dim> affine = p2g_kirchhoff(settings, p, i, -dt * p.vol0[i] * inv_d);
+      const Mat<Dim> stress = p2g_kirchhoff(settings, p, i, -dt * p.vol0[i] * inv_d);
       const Real m = p.mass[i];
-      // Column by column: the product's columns are stored in pieces (two rows packed, one
-      // alone), and adding whole matrices reads them at other offsets (store-forwarding stall).
-      if constexpr (kApic)
-        for (int c = 0; c < Dim; ++c) affine.col(c) += m * p.C[i].col(c);
+      // At a node, w (m, m v + A (x_i - x_p)) in the lanes (m, p), A the stress term plus
+      // m C for APIC: m v plus the columns of A times the components of x_i - x_p one by one,
+      // as the scalar sums would go; lane 0 adds zeros to m.
       const Vec<Dim> mv = m * p.v[i];
+      const Node base{m, mv[0], mv[1], Dim == 3 ? mv[Dim - 1] : 0};
+      Node column[Dim];
+      for (int c = 0; c < Dim; ++c) {
+        Vec<Dim> a = stress.col(c);
+        if constexpr (kApic) a += m * p.C[i].col(c);
+        column[c] = Node{0, a[0], a[1], Dim == 3 ? a[Dim - 1] : 0};
+      }
       WindowStencil<Dim, kTransferOrder>(window, p.x[i]).visit([&](int wn, Real w,
                                                                    const Vec<Dim>& rel) {
         int f = 0;
         if constexpr (kSplit) f = second_field(normal[wn], p.damage_gradient[i]) ? 1 : 0;
-        mass[f][wn] += w * m;
-        // mv + affine (x_i - x_p), row by row in scalars: Eigen's temporaries here cost
-        // store-forwarding stalls.
-        Real* mom = momentum[f][wn].data();
-        for (int a = 0; a < Dim; ++a) {
-          Real dv = mv[a];
-          for (int c = 0; c < Dim; ++c) dv += affine(a, c) * rel[c];
-          mom[a] += w * dv;
-        }
-        if constexpr (kFlip) momentum_old[f][wn] += w * mv;  // force-free momentum
+        Node sum = base;
+        for (int c = 0; c < Dim; ++c) sum += column[c] * rel[c];
+        mass_momentum[f][wn] += w * sum;
+        if constexpr (kFlip) momentum_old[f][wn] += w * base;  // force-free: w m v in lanes 1..
       });
     }
     win.store(&grid, window);
