@@ -62,16 +62,6 @@ bool checkpointed(const FieldRegistry& store, const FieldRegistry::Entry& e) {
 
 }  // namespace
 
-size_t fields_bytes(const FieldRegistry& store) {
-  size_t bytes = sizeof(uint32_t);
-  for (const FieldRegistry::Entry& e : store.entries()) {
-    if (!checkpointed(store, e)) continue;
-    bytes += 2 * sizeof(uint32_t) + sizeof(uint64_t) + e.info().name.size() +
-             store.field_size(e) * e.element_bytes();
-  }
-  return bytes;
-}
-
 std::vector<uint32_t> rows_by_id(const std::vector<uint32_t>& id) {
   constexpr uint32_t kNone = UINT32_MAX;
   std::vector<uint32_t> row(id.size(), kNone);

@@ -21,9 +21,6 @@ PointTable frame_table(const FieldRegistry& store, const std::vector<uint32_t>& 
 void fill_frame_table(const FieldRegistry& store, const std::vector<uint32_t>& rows,
                       PointTable* table);
 
-// Bytes put_fields writes for `store`.
-size_t fields_bytes(const FieldRegistry& store);
-
 // rows[k] = the index of the particle whose id is k: frame rows in id order, so frames compare
 // row by row across frames and runs. Throws std::runtime_error unless the ids are a permutation
 // of 0..n-1 (a damaged or forged checkpoint can hold any ids).

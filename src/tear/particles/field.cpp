@@ -24,13 +24,12 @@ void FieldRegistry::add_derived(FieldColumns columns,
 }
 
 void FieldRegistry::columns(const Entry& e, size_t i, double* out) const {
-  const int n = int(e.info_.columns.names.size());
-  if (e.derived_) return e.derived_(*this, i, out);
   double* column[8];
+  const size_t n = e.info_.columns.names.size();
   TEAR_ASSERT(n <= 8);
-  for (int c = 0; c < n; ++c) column[c] = out + c;
+  for (size_t c = 0; c < n; ++c) column[c] = out + c;
   const uint32_t row = uint32_t(i);
-  e.columns_(at(e), &row, 1, n, column);
+  columns(e, &row, 1, column);
 }
 
 void FieldRegistry::columns(const Entry& e, const uint32_t* rows, size_t count,

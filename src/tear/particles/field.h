@@ -160,11 +160,12 @@ class FieldRegistry {
   char* element(const Entry& e, size_t i) { return e.data_(at(e)) + i * e.element_bytes_; }
   // Replace a field's values by `count` elements from `bytes` (element_bytes() each).
   void assign_field(const Entry& e, const char* bytes, size_t count);
-  // The frame-column values of particle i for entry e: e.info().columns.names.size() numbers
-  // (components beyond the value's are 0).
-  void columns(const Entry& e, size_t i, double* out) const;
-  // The same for particles rows[0 .. count): out[c][k] is column c of particle rows[k].
+  // The frame-column values of entry e (e.info().columns.names.size() of them; components
+  // beyond the value's are 0) for particles rows[0 .. count): out[c][k] is column c of
+  // particle rows[k].
   void columns(const Entry& e, const uint32_t* rows, size_t count, double* const* out) const;
+  // The same for one particle i: out[c] is column c.
+  void columns(const Entry& e, size_t i, double* out) const;
 
   // Bytes of one particle over the enabled fields (state and scratch).
   size_t bytes_per_particle() const;
