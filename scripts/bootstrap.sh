@@ -56,7 +56,7 @@ case "$mode" in
     status=0
     ctest --test-dir build --output-on-failure -j "$(nproc)" || status=1
     echo "== $SECONDS s so far"
-    # The readers, the scene parser's corpus, particle, io and grid tests again under ASan and
+    # The readers and their corpus, the math, particle, io and grid tests again under ASan and
     # UndefinedBehaviorSanitizer (docs/architecture.md "Sanitizers"; the whole suite:
     # scripts/sanitize.sh address).
     echo "== the sanitizer subset (scripts/sanitize.sh address --ci)"

@@ -3,8 +3,8 @@
 #   scripts/sanitize.sh address        build-asan: AddressSanitizer + UndefinedBehaviorSanitizer,
 #                                      every test
 #   scripts/sanitize.sh address --ci   build-asan-ci (-O1 -g1): the subset CI runs (the readers
-#                                      and their fuzz corpus, the scene parser's corpus, the
-#                                      math, exec, geometry, particle, io and grid tests)
+#                                      and their fuzz corpus, the math, exec, geometry,
+#                                      particle, io and grid tests)
 #   scripts/sanitize.sh thread         build-tsan (-O1 -g1): ThreadSanitizer, the threaded tests
 #   scripts/sanitize.sh address --clang
 #                                      build-asan-clang: the same with clang++ at -O3 -g1: the
@@ -65,9 +65,8 @@ subset_targets=()
 subset_regex=""
 if [[ $kind == address && $ci == 1 ]]; then
   subset_targets=(test_math test_exec test_geometry test_particles test_kernels test_io test_grid
-                  replay_ply replay_obj replay_stl replay_bgeo replay_vtu replay_frame_range
-                  replay_scene)
-  subset_regex='^((AtomicFile|BSpline|Bgeo|Binary|BlockWindow|Cofactor|Collider|Exec|FieldIo|FieldRegistry|Frames|Memory|MeshIo|MeshSolid|Ply|PointGroups|Polar|Pvd|Qr|RoundShapes|ShapeSdf|SignedSvd|SparseGrid|Stencil|Vtu)\.|Fuzz\.replay_(ply|obj|stl|bgeo|vtu|frame_range|scene)$)'
+                  replay_ply replay_obj replay_stl replay_bgeo replay_vtu replay_frame_range)
+  subset_regex='^((AtomicFile|BSpline|Bgeo|Binary|BlockWindow|Cofactor|Collider|Exec|FieldIo|FieldRegistry|Frames|Memory|MeshIo|MeshSolid|Ply|PointGroups|Polar|Pvd|Qr|RoundShapes|ShapeSdf|SignedSvd|SparseGrid|Stencil|Vtu)\.|Fuzz\.replay_(ply|obj|stl|bgeo|vtu|frame_range)$)'
 elif [[ $kind == thread ]]; then
   subset_targets=(test_exec test_grid test_solvers test_mpm tear_cli test_cli)
   subset_regex='^(Exec\.|SparseGrid\.|Apic\.|Implicit\.Conserves|Determinism\.|Cli\.OutputIsBitIdentical|Stability|StepGuard|CrackFields\.SameBits|Implicit\.MultigridStepsGiveTheSameBits|ImplicitDamage\.SameBits|Inextensibility\.SameBits|Multigrid\.SameBits)'

@@ -28,10 +28,12 @@ void expect_lanewise() {
     Lanes<N> r = la + lb * s;
     r += s * lc;
     r += la * lb;
+    r = r - lc;
     for (int k = 0; k < N; ++k) {
       Real e = a[k] + b[k] * s;
       e += s * c[k];
       e += a[k] * b[k];
+      e = e - c[k];
       EXPECT_EQ(std::memcmp(&e, &r[k], sizeof(Real)), 0) << "lane " << k << " of " << N;
     }
   }

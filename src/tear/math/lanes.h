@@ -45,6 +45,12 @@ struct Lanes4Pair {
     return *this;
   }
   friend Lanes4Pair operator+(Lanes4Pair a, const Lanes4Pair& b) { return a += b; }
+  friend Lanes4Pair operator-(const Lanes4Pair& a, const Lanes4Pair& b) {
+    return {a.lo - b.lo, a.hi - b.hi};
+  }
+  friend Lanes4Pair operator*(const Lanes4Pair& a, const Lanes4Pair& b) {
+    return {a.lo * b.lo, a.hi * b.hi};
+  }
   friend Lanes4Pair operator*(const Lanes4Pair& a, Real s) { return {a.lo * s, a.hi * s}; }
   friend Lanes4Pair operator*(Real s, const Lanes4Pair& a) { return {s * a.lo, s * a.hi}; }
 };
