@@ -186,7 +186,7 @@ TEST_F(Cli, DamagedCheckpointFallsBackToThePreviousOne) {
   b[7] = '8';
   write_file_atomic(old, b);
   EXPECT_EQ(tear("run " + s + " -o " + path("old") + " --resume"), 1);
-  EXPECT_NE(err_.find("checkpoint format version 8, this tear reads version A"),
+  EXPECT_NE(err_.find("checkpoint format version 8, this tear reads versions A and B"),
             std::string::npos)
       << err_;
   write_file_atomic(old, "not a checkpoint at all");

@@ -2,9 +2,13 @@
 // positions of its own): the binning must be the one a pass over the positions gives, step
 // after step, through reorders, for several groups, and where a caller moved particles by hand.
 #include "mpm_test_util.h"
+#include "tear/mpm/measure.h"
 #include "tear/mpm/phases.h"
 
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
 
 namespace tear {
 namespace {
@@ -77,6 +81,61 @@ void check_sort_uses_g2p_slots() {
   sort_particles(&state);
   expect_bins_of_positions(sim.settings(), state);
 }
+
+// G2P's figures of the particles it moved (MpmState::moved) are what a pass over the particles
+// gives: the largest squared speed, +inf after a fault, and the smallest mass.
+template <int Dim>
+void check_g2p_figures() {
+  const Scene s =
+      basic_scene(Dim, 0.05, Vec3d::Zero(), Vec3d::Constant(2.0), Model::FixedCorotated, 1e3, 0.3,
+                  1, 3);
+  const Vec<Dim> lo = Vec<Dim>::Constant(Real(0.6)), hi = Vec<Dim>::Constant(Real(1.1));
+  const Vec<Dim> c = (lo + hi) / 2;
+  const Particles<Dim> all = lattice_block<Dim>(s, lo, hi, 2, [&](const Vec<Dim>& x) {
+    Vec<Dim> v = Vec<Dim>::Constant(Real(0.3));
+    v[0] += -Real(4) * (x[1] - c[1]);
+    v[1] += Real(4) * (x[0] - c[0]);
+    return v;
+  });
+  // Two groups, masses that differ from particle to particle; the lightest in the second.
+  std::vector<Particles<Dim>> groups(2);
+  for (size_t i = 0; i < all.size(); ++i)
+    groups[i % 2].push_back(all.x[i], all.v[i], all.fiber[i],
+                            all.mass[i] * Real(1 + 0.1 * double(i % 7)) / (i == 41 ? 3 : 1),
+                            all.vol0[i], all.material[i]);
+  MpmSim<Dim> sim(s, std::move(groups));
+  const MpmSettings& settings = sim.settings();
+  MpmState<Dim>& state = sim.state();
+  auto by_pass = [&](auto figure) {
+    const long kept = state.moved_step;
+    state.moved_step = -1;
+    const Real value = figure();
+    state.moved_step = kept;
+    return value;
+  };
+  auto speed2 = [&] { return speed2_or_fault(settings, state); };
+  auto min_mass = [&] { return smallest_particle_mass(state); };
+  const double dt = sim.estimate_dt();
+  for (int i = 0; i < 20; ++i) {
+    sim.step(dt);
+    ASSERT_EQ(state.moved_step, state.steps);
+    EXPECT_EQ(speed2(), by_pass(speed2)) << "step " << i;
+    EXPECT_GT(speed2(), 0);
+    EXPECT_EQ(min_mass(), by_pass(min_mass)) << "step " << i;
+  }
+  EXPECT_EQ(min_mass(), all.mass[41] * Real(1 + 0.1 * (41 % 7)) / 3);
+  // A velocity gone bad: G2P spreads it; both say +inf.
+  state.groups[1].v[5][0] = std::numeric_limits<Real>::quiet_NaN();
+  state.moved_step = -1;  // changed by hand
+  ASSERT_TRUE(std::isinf(speed2()));
+  sim.step(dt);
+  ASSERT_EQ(state.moved_step, state.steps);
+  EXPECT_TRUE(std::isinf(speed2()));
+  EXPECT_TRUE(std::isinf(by_pass(speed2)));
+}
+
+TEST(Sort, G2pFiguresEqualAPassOverTheParticles2D) { check_g2p_figures<2>(); }
+TEST(Sort, G2pFiguresEqualAPassOverTheParticles3D) { check_g2p_figures<3>(); }
 
 TEST(Sort, BinsFromG2pSlotsEqualABinningOfThePositions2D) { check_sort_uses_g2p_slots<2>(); }
 TEST(Sort, BinsFromG2pSlotsEqualABinningOfThePositions3D) { check_sort_uses_g2p_slots<3>(); }

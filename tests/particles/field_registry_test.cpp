@@ -62,6 +62,26 @@ TEST(FieldRegistry, PermuteMovesStateFieldsAndLeavesScratch) {
   }
 }
 
+// A reorder swaps each field with a spare of its type (FieldRegistry::spare): reorders in a
+// row, and a copy's reorders, must each see their own values.
+TEST(FieldRegistry, ReordersInARowAndCopiesKeepTheirOwnValues) {
+  TestStore s = store_of(6);
+  s.permute({5, 4, 3, 2, 1, 0});
+  TestStore copy = s;
+  s.permute({1, 0, 3, 2, 5, 4});
+  copy.permute({0, 2, 4, 1, 3, 5});
+  const std::vector<uint32_t> ids = {4, 5, 2, 3, 0, 1}, copy_ids = {5, 3, 1, 4, 2, 0};
+  for (size_t k = 0; k < 6; ++k) {
+    EXPECT_EQ(s.id[k], ids[k]);
+    EXPECT_EQ(s.test_only[k], Real(100 + ids[k]));
+    EXPECT_EQ(s.x[k][1], Real(2 * ids[k]));
+    EXPECT_EQ(s.material[k], uint16_t(ids[k] % 3));
+    EXPECT_EQ(copy.id[k], copy_ids[k]);
+    EXPECT_EQ(copy.test_only[k], Real(100 + copy_ids[k]));
+    EXPECT_EQ(copy.x[k][0], Real(copy_ids[k]));
+  }
+}
+
 TEST(FieldRegistry, MemoryFigureCountsEveryEnabledField) {
   TestStore s = store_of(3);
   Particles<2> plain;
@@ -156,6 +176,67 @@ TEST(FieldRegistry, CheckpointRecordsRoundTripEveryStateField) {
     EXPECT_EQ(back.F[i], s.F[i]);
     EXPECT_EQ(back.x[i], s.x[i]);
   }
+}
+
+// A field with one value for every particle is written once (mass, vol0, F and C of this store;
+// x, v and test_only vary), and read back as that value for every particle. compact = false
+// writes every value; the version A layout (no flag byte) is still read.
+TEST(FieldRegistry, CheckpointWritesAFieldOfOneValueOnce) {
+  constexpr size_t n = 6;
+  TestStore s = store_of(n);
+  ByteWriter compact, full;
+  put_fields(s, &compact);
+  put_fields(s, &full, false);
+  size_t once = 0;  // bytes of the fields with one value, less one element each
+  for (const FieldRegistry::Entry& e : s.entries()) {
+    if (e.info().role != FieldRole::State || !s.stored(e)) continue;
+    const char* d = s.field_data(e);
+    bool uniform = true;
+    for (size_t i = 1; i < n; ++i)
+      uniform = uniform && std::equal(d, d + e.element_bytes(), d + i * e.element_bytes());
+    if (uniform) once += (n - 1) * e.element_bytes();
+  }
+  EXPECT_GE(once, (n - 1) * (2 * sizeof(Real) + 2 * sizeof(Mat<2>)));
+  EXPECT_EQ(compact.size() + once, full.size());
+  // Version A: the same records without the flag byte.
+  ByteWriter version_a;
+  uint32_t count = 0;
+  for (const FieldRegistry::Entry& e : s.entries())
+    count += e.info().role == FieldRole::State && s.stored(e);
+  version_a.put<uint32_t>(count);
+  for (const FieldRegistry::Entry& e : s.entries()) {
+    if (e.info().role != FieldRole::State || !s.stored(e)) continue;
+    version_a.put<uint32_t>(uint32_t(e.info().name.size()));
+    version_a.put_bytes(e.info().name);
+    version_a.put<uint32_t>(uint32_t(e.element_bytes()));
+    version_a.put<uint64_t>(n);
+    version_a.put_bytes(s.field_data(e), n * e.element_bytes());
+  }
+  for (const auto& [writer, flags] : {std::pair<const ByteWriter*, bool>{&compact, true},
+                                      {&full, true},
+                                      {&version_a, false}}) {
+    TestStore back;
+    const std::string bytes = writer->bytes();
+    ByteReader r(bytes);
+    get_fields(&r, n, &back, flags);
+    EXPECT_TRUE(r.at_end());
+    ASSERT_EQ(back.size(), n);
+    for (size_t i = 0; i < n; ++i) {
+      EXPECT_EQ(back.x[i], s.x[i]);
+      EXPECT_EQ(back.test_only[i], s.test_only[i]);
+      EXPECT_EQ(back.mass[i], s.mass[i]);
+      EXPECT_EQ(back.F[i], s.F[i]);
+      EXPECT_EQ(back.material[i], s.material[i]);
+    }
+  }
+  // A flag byte other than 0 and 1 is refused.
+  std::string bad = compact.bytes();
+  const size_t flag = 4 + 4 + 2 + 4 + 8;  // count, then the first field ("id"): name, size, n
+  ASSERT_EQ(bad[flag], 0);  // ids differ
+  bad[flag] = 2;
+  TestStore back;
+  ByteReader r(bad);
+  EXPECT_THROW(get_fields(&r, n, &back), std::runtime_error);
 }
 
 TEST(FieldRegistry, CheckpointOfOtherFieldsIsRefusedByName) {

@@ -24,7 +24,7 @@ namespace {
 // Checkpoint format: this magic (its digit is the format's version), then the header below,
 // then each group's state fields as io/field_io.h writes them, then a 64-bit checksum of
 // everything before it (io/binary.h).
-const std::string kCheckpointMagic = "TEARCKPA";
+const std::string kCheckpointMagic = "TEARCKPB";
 
 template <int Dim>
 class MpmSimulation final : public Simulation {
@@ -75,7 +75,10 @@ class MpmSimulation final : public Simulation {
     if (state_.steps == inject_nan_step_)
       for (Particles<Dim>& g : state_.groups)
         for (size_t i = 0; i < g.size(); ++i)
-          if (g.id[i] == inject_nan_id_) g.v[i][0] = std::numeric_limits<Real>::quiet_NaN();
+          if (g.id[i] == inject_nan_id_) {
+            g.v[i][0] = std::numeric_limits<Real>::quiet_NaN();
+            state_.moved_step = -1;  // G2P's figures no longer describe the velocities
+          }
     // One pass over the particles: the next step's speed limit, and faults (infinity).
     speed2_ = speed2_or_fault(settings_, state_);
     if (std::isinf(speed2_))
@@ -158,7 +161,12 @@ class MpmSimulation final : public Simulation {
     return table_;
   }
 
-  ByteWriter checkpoint() const override {
+  ByteWriter checkpoint() const override { return encode(true); }
+  size_t checkpoint_bytes_max() const override { return encode(false).size(); }
+
+ private:
+  // compact: fields that hold one value for every particle written once (put_fields).
+  ByteWriter encode(bool compact) const {
     ByteWriter w;
     w.put_bytes(kCheckpointMagic);
     w.put<int32_t>(Dim);
@@ -193,19 +201,23 @@ class MpmSimulation final : public Simulation {
     w.put<int32_t>(xs.cg_iterations_max);
     w.put<double>(xs.residual_max);
     w.put<int64_t>(xs.unconverged);
-    for (const Particles<Dim>& g : state_.groups) put_fields(g, &w);
+    for (const Particles<Dim>& g : state_.groups) put_fields(g, &w, compact);
     put_checksum(&w);
     return w;
   }
+
+ public:
 
   void decode_checkpoint(const std::string& bytes) override {
     const size_t prefix = kCheckpointMagic.size() - 1;  // "TEARCKP", then the version
     if (bytes.size() < kCheckpointMagic.size() ||
         bytes.compare(0, prefix, kCheckpointMagic, 0, prefix) != 0)
       throw std::runtime_error("not a tear checkpoint");
-    if (bytes[prefix] != kCheckpointMagic[prefix])
-      throw std::runtime_error(std::string("checkpoint format version ") + bytes[prefix] +
-                               ", this tear reads version " + kCheckpointMagic[prefix] +
+    // Version A differs only in writing every value of every field (put_fields).
+    const char version = bytes[prefix];
+    if (version != kCheckpointMagic[prefix] && version != 'A')
+      throw std::runtime_error(std::string("checkpoint format version ") + version +
+                               ", this tear reads versions A and " + kCheckpointMagic[prefix] +
                                " (written by another version of tear)");
     if (!checksum_matches(bytes))
       throw std::runtime_error("damaged: its checksum does not match (truncated or altered)");
@@ -257,7 +269,8 @@ class MpmSimulation final : public Simulation {
     xs.cg_iterations_max = r.get<int32_t>();
     xs.residual_max = r.get<double>();
     xs.unconverged = long(r.get<int64_t>());
-    for (uint32_t g = 0; g < groups; ++g) get_fields(&r, size_t(counts[g]), &stores[g]);
+    for (uint32_t g = 0; g < groups; ++g)
+      get_fields(&r, size_t(counts[g]), &stores[g], version != 'A');
     if (!r.at_end()) throw std::runtime_error("corrupt checkpoint (trailing bytes)");
     // What the checksum cannot vouch for (a checkpoint forged with a valid one): ids that are
     // not a permutation, particles outside the domain or not finite.
@@ -275,6 +288,7 @@ class MpmSimulation final : public Simulation {
     state_.time = state.time;
     state_.steps = state.steps;
     state_.home_slots_step = -1;  // new positions
+    state_.moved_step = -1;
     state_.implicit_multigrid = state.implicit_multigrid;
     speed2_ = speed2_or_fault(settings_, state_);
     frame_ = frame;

@@ -556,6 +556,7 @@ int check_scene(const std::string& scene_path, const std::vector<std::string>& o
     size_t frame_bytes = 0;
     for (const std::string& f : s.formats) frame_bytes += encode_points(table, f).size();
     const size_t checkpoint = sim->checkpoint().size();
+    const size_t checkpoint_max = sim->checkpoint_bytes_max();
     // Frame 0, every output_every-th frame, and the last frame.
     const int written = 1 + s.frames / s.output_every + (s.frames % s.output_every != 0 ? 1 : 0);
     out << "particles  " << sim->num_particles() << "\n";
@@ -571,7 +572,11 @@ int check_scene(const std::string& scene_path, const std::vector<std::string>& o
     out << "memory     about " << size_text(double(sim->memory_bytes())) << "\n";
     out << "output     " << written << " frames of " << size_text(double(frame_bytes)) << " ("
         << size_text(double(frame_bytes) * written) << "), checkpoint "
-        << size_text(double(checkpoint)) << "\n";
+        << size_text(double(checkpoint));
+    // Fields that hold one value for every particle are written once: later checkpoints grow
+    // as the values part.
+    if (checkpoint_max > checkpoint) out << " now, up to " << size_text(double(checkpoint_max));
+    out << "\n";
     return 0;
   } catch (const std::exception& e) {
     return fail(e.what());

@@ -100,6 +100,9 @@ class Simulation {
   // fields are referenced where they are (no copy of the state): use the bytes before the
   // simulation changes.
   virtual ByteWriter checkpoint() const = 0;
+  // The size of the largest checkpoint of this state's fields: one where no field holds the same
+  // value for every particle (checkpoint() writes such a field once).
+  virtual size_t checkpoint_bytes_max() const = 0;
   // The same bytes in one string.
   std::string encode_checkpoint() const { return checkpoint().bytes(); }
   // Throws std::runtime_error with the reason if the bytes are not a checkpoint of this scene

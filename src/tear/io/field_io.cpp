@@ -3,6 +3,7 @@
 #include "tear/exec/memory.h"
 #include "tear/exec/parallel.h"
 
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -77,7 +78,7 @@ std::vector<uint32_t> rows_by_id(const std::vector<uint32_t>& id) {
   return row;
 }
 
-void put_fields(const FieldRegistry& store, ByteWriter* w) {
+void put_fields(const FieldRegistry& store, ByteWriter* w, bool compact) {
   uint32_t count = 0;
   for (const FieldRegistry::Entry& e : store.entries())
     if (checkpointed(store, e)) ++count;
@@ -88,13 +89,19 @@ void put_fields(const FieldRegistry& store, ByteWriter* w) {
     w->put<uint32_t>(uint32_t(name.size()));
     w->put_bytes(name);
     w->put<uint32_t>(uint32_t(e.element_bytes()));
-    const size_t n = store.field_size(e);
+    const size_t n = store.field_size(e), size = e.element_bytes();
     w->put<uint64_t>(n);
-    w->put_view(store.field_data(e), n * e.element_bytes());
+    // A field that holds one value for every particle (a material's mass, rest volume or fiber
+    // frame, undamaged particles' damage) is written once.
+    const char* data = store.field_data(e);
+    auto differs = [&](size_t i) { return std::memcmp(data + i * size, data, size) != 0; };
+    const bool uniform = compact && n > 1 && !parallel_any(n, differs);
+    w->put<uint8_t>(uniform ? 1 : 0);
+    w->put_view(data, uniform ? size : n * size);
   }
 }
 
-void get_fields(ByteReader* r, size_t count, FieldRegistry* store) {
+void get_fields(ByteReader* r, size_t count, FieldRegistry* store, bool uniform_flags) {
   auto corrupt = [](const std::string& why) {
     return std::runtime_error("corrupt checkpoint (" + why + ")");
   };
@@ -118,7 +125,12 @@ void get_fields(ByteReader* r, size_t count, FieldRegistry* store) {
     if (n != count)
       throw corrupt("particle field \"" + name + "\" has " + std::to_string(n) + " values for " +
                     std::to_string(count) + " particles");
-    store->assign_field(*e, r->get_view(size_t(n) * e->element_bytes()), size_t(n));
+    const uint8_t uniform = uniform_flags ? r->get<uint8_t>() : 0;
+    if (uniform > 1) throw corrupt("particle field \"" + name + "\" has a bad layout flag");
+    if (uniform)
+      store->fill_field(*e, r->get_view(e->element_bytes()), size_t(n));
+    else
+      store->assign_field(*e, r->get_view(size_t(n) * e->element_bytes()), size_t(n));
   }
   if (fields > expected.size())
     throw corrupt(std::to_string(fields - expected.size()) +

@@ -27,12 +27,14 @@ void fill_frame_table(const FieldRegistry& store, const std::vector<uint32_t>& r
 std::vector<uint32_t> rows_by_id(const std::vector<uint32_t>& id);
 
 // The state fields of `store` (enabled ones, declaration order): for each its name, element
-// size, count and bytes (the bytes referenced in place: `store` must not change until `w` is
-// used).
-void put_fields(const FieldRegistry& store, ByteWriter* w);
-// Reads what put_fields wrote into `store`'s state fields. Throws std::runtime_error("corrupt
-// checkpoint (...)") naming the field when the names, element sizes or counts differ from the
-// store's declarations or from `count` particles.
-void get_fields(ByteReader* r, size_t count, FieldRegistry* store);
+// size, count, a byte that is 1 where every particle holds the same value, and the bytes (that
+// one value, or all; referenced in place: `store` must not change until `w` is used).
+// compact false: every value of every field (the largest size the fields can take).
+void put_fields(const FieldRegistry& store, ByteWriter* w, bool compact = true);
+// Reads what put_fields wrote into `store`'s state fields (`uniform_flags` false: a layout
+// without the byte, every value written, as checkpoint format A had). Throws
+// std::runtime_error("corrupt checkpoint (...)") naming the field when the names, element
+// sizes or counts differ from the store's declarations or from `count` particles.
+void get_fields(ByteReader* r, size_t count, FieldRegistry* store, bool uniform_flags = true);
 
 }  // namespace tear

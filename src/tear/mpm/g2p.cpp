@@ -4,6 +4,7 @@
 #include "tear/mpm/phases.h"
 #include "tear/mpm/transfer_window.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace tear {
@@ -20,8 +21,11 @@ void gather(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
       Real(settings.flip_relaxation_time > 0 ? std::exp(-double(dt) / settings.flip_relaxation_time)
                                              : settings.flip_ratio);
   const KeptBox<Dim> kept(settings);
-  // The next sort's home slots, made while the new positions are at hand.
+  // The next sort's home slots and the figures of MpmState::Moved, made while the new
+  // positions and velocities are at hand.
   state->home_slots.resize(state->groups.size());
+  typename MpmState<Dim>::Moved moved;
+  std::vector<typename MpmState<Dim>::Moved> block_moved;
   // Home blocks in parallel; each copies the nodes its particles reach into a window.
   for (size_t g = 0; g < state->groups.size(); ++g) {
     Particles<Dim>& p = state->groups[g];
@@ -29,6 +33,7 @@ void gather(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
     std::vector<int>& slots = state->home_slots[g];
     reserve_large(&slots, p.size());
     slots.resize(p.size());
+    block_moved.assign(bins.home_blocks.size(), moved);
     parallel_for(bins.home_blocks.size(), [&](size_t b) {
       const typename SparseGrid<Dim>::HomeBlock& h = bins.home_blocks[b];
       const BlockWindow<Dim, kTransferOrder> window(grid, h, p.x, bins.order.data());
@@ -41,6 +46,7 @@ void gather(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
       const Node* const velocity_old[2] = {win.velocity_old[0].data(),
                                            win.velocity_old[kSecond].data()};
       const Vec<Dim>* const normal = win.normal.data();
+      typename MpmState<Dim>::Moved& m = block_moved[b];
       for (uint32_t k = h.begin; k < h.end; ++k) {
         const uint32_t i = bins.order[k];
         // In lanes: v, the force-free v and the columns of B = sum w v_i (x_i - x_p)^T.
@@ -78,10 +84,19 @@ void gather(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
         p.v[i] = flip ? Vec<Dim>(ratio * (p.v[i] + vg - vg_old) + (1 - ratio) * vg) : vg;
         p.x[i] = (p.x[i] + dt * vg).cwiseMax(kept.lo).cwiseMin(kept.hi);
         slots[i] = grid.home_slot(p.x[i]);
+        m.speed2 = std::max(m.speed2, kept.speed2_or_fault(p.x[i], p.v[i]));
+        m.min_mass = std::min(m.min_mass, p.mass[i]);
       }
     });
+    // Maxima and minima: the same for any order, so for any thread count.
+    for (const typename MpmState<Dim>::Moved& m : block_moved) {
+      moved.speed2 = std::max(moved.speed2, m.speed2);
+      moved.min_mass = std::min(moved.min_mass, m.min_mass);
+    }
   }
   state->home_slots_step = state->steps + 1;
+  state->moved = moved;
+  state->moved_step = state->steps + 1;
 }
 
 }  // namespace

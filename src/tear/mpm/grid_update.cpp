@@ -64,6 +64,7 @@ void grid_update(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
 
 template <int Dim>
 Real smallest_particle_mass(const MpmState<Dim>& state) {
+  if (state.moved_step == state.steps) return state.moved.min_mass;  // G2P's, no second pass
   Real neg_min_mass = -std::numeric_limits<Real>::infinity();
   for (const Particles<Dim>& p : state.groups)
     neg_min_mass = std::max(neg_min_mass,

@@ -135,31 +135,16 @@ StateFigures reduce_figures(const StateFigures& local, const Domain& domain) {
   return s;
 }
 
-namespace {
-
-// 0: none; 1: on a face of G2P's box (a particle there was pushed back onto it); 2: position or
-// velocity not finite.
-template <int Dim>
-int fault_kind(const KeptBox<Dim>& kept, const Particles<Dim>& p, size_t i) {
-  if (!p.x[i].allFinite() || !p.v[i].allFinite()) return 2;
-  if ((p.x[i].array() <= kept.lo.array()).any() || (p.x[i].array() >= kept.hi.array()).any())
-    return 1;
-  return 0;
-}
-
-}  // namespace
 
 template <int Dim>
 Real speed2_or_fault(const MpmSettings& settings, const MpmState<Dim>& state) {
+  if (state.moved_step == state.steps) return state.moved.speed2;  // G2P's, no second pass
   const KeptBox<Dim> kept(settings);
-  constexpr Real kInf = std::numeric_limits<Real>::infinity();
   Real v2 = 0;
   for (const Particles<Dim>& p : state.groups)
-    v2 = std::max(
-        v2, parallel_max<Real>(
-                p.size(),
-                [&](size_t i) { return fault_kind(kept, p, i) ? kInf : p.v[i].squaredNorm(); },
-                Real(0)));
+    v2 = std::max(v2, parallel_max<Real>(
+                          p.size(), [&](size_t i) { return kept.speed2_or_fault(p.x[i], p.v[i]); },
+                          Real(0)));
   return v2;
 }
 
@@ -170,9 +155,10 @@ ParticleFault find_particle_fault(const MpmSettings& settings, const MpmState<Di
   for (size_t g = 0; g < state.groups.size(); ++g) {
     const Particles<Dim>& p = state.groups[g];
     // One pass for "is there one" (the common answer is no), the lowest id only then.
-    if (!parallel_any(p.size(), [&](size_t i) { return fault_kind(kept, p, i) != 0; })) continue;
+    auto kind = [&](size_t i) { return kept.fault_kind(p.x[i], p.v[i]); };
+    if (!parallel_any(p.size(), [&](size_t i) { return kind(i) != 0; })) continue;
     const int64_t lowest = -parallel_max<int64_t>(
-        p.size(), [&](size_t i) { return fault_kind(kept, p, i) ? -int64_t(p.id[i]) : INT64_MIN; },
+        p.size(), [&](size_t i) { return kind(i) ? -int64_t(p.id[i]) : INT64_MIN; },
         INT64_MIN);
     for (size_t i = 0; i < p.size(); ++i) {
       if (int64_t(p.id[i]) != lowest) continue;
@@ -181,7 +167,7 @@ ParticleFault find_particle_fault(const MpmSettings& settings, const MpmState<Di
       fault.index = i;
       fault.id = p.id[i];
       fault.material = p.material[i];
-      fault.kind = fault_kind(kept, p, i) == 2 ? ParticleFault::Kind::NonFinite
+      fault.kind = kept.fault_kind(p.x[i], p.v[i]) == 2 ? ParticleFault::Kind::NonFinite
                                                : ParticleFault::Kind::LeftDomain;
       fault.x.head<Dim>() = p.x[i].template cast<double>();
       fault.v.head<Dim>() = p.v[i].template cast<double>();

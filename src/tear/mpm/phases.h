@@ -3,6 +3,8 @@
 // the damage phase is damage/phase_field.h's update_damage.
 #pragma once
 
+#include <limits>
+
 #include "tear/exec/domain.h"
 #include "tear/exec/parallel.h"
 #include "tear/mpm/settings.h"
@@ -93,6 +95,17 @@ struct KeptBox {
       lo[d] = Real(settings.domain_min[d] + settings.dx);
       hi[d] = Real(settings.domain_max[d] - settings.dx);
     }
+  }
+  // 0: none; 1: x is on a face of the box (the particle was pushed back onto it); 2: x or v is
+  // not finite.
+  int fault_kind(const Vec<Dim>& x, const Vec<Dim>& v) const {
+    if (!x.allFinite() || !v.allFinite()) return 2;
+    if ((x.array() <= lo.array()).any() || (x.array() >= hi.array()).any()) return 1;
+    return 0;
+  }
+  // What speed2_or_fault (mpm/measure.h) takes the largest of: |v|^2, or +inf for a fault.
+  Real speed2_or_fault(const Vec<Dim>& x, const Vec<Dim>& v) const {
+    return fault_kind(x, v) ? std::numeric_limits<Real>::infinity() : v.squaredNorm();
   }
 };
 

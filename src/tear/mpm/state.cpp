@@ -10,6 +10,8 @@ MpmState<Dim> make_mpm_state(const MpmSettings& settings, std::vector<Particles<
   state.groups = std::move(groups);
   if (settings.damage.solver != DamageSolver::None)
     for (Particles<Dim>& g : state.groups) g.enable("drive");
+  if (has_stress_phase(settings))
+    for (Particles<Dim>& g : state.groups) g.enable("stress"), g.enable("J");
   if (settings.damage.split_fields)
     for (Particles<Dim>& g : state.groups) g.enable("damage_gradient");
   for (const PlasticParams& m : settings.material_plasticity) {

@@ -7,6 +7,7 @@
 #include "tear/mpm/settings.h"
 #include "tear/particles/particles.h"
 
+#include <limits>
 #include <vector>
 
 namespace tear {
@@ -25,6 +26,16 @@ struct MpmState {
   // change of positions must set it to -1).
   std::vector<std::vector<int>> home_slots;
   long home_slots_step = -1;
+  // What G2P saw of the particles it moved, so that the step's end and the next step need no
+  // pass of their own: the largest KeptBox::speed2_or_fault (speed2_or_fault, mpm/measure.h) and
+  // the smallest mass (smallest_particle_mass, mpm/phases.h). Valid while moved_step == steps,
+  // as home_slots; any other change of positions, velocities or masses must set it to -1.
+  struct Moved {
+    Real speed2 = 0;
+    Real min_mass = std::numeric_limits<Real>::infinity();
+  };
+  Moved moved;
+  long moved_step = -1;
 
   size_t num_particles() const {
     size_t n = 0;

@@ -63,7 +63,7 @@ size_t FieldRegistry::append() {
 void FieldRegistry::permute(const std::vector<uint32_t>& order) {
   TEAR_ASSERT(order.size() == size());
   for (const Entry& e : entries_)
-    if (e.info_.role == FieldRole::State && stored(e)) e.permute_(at(e), order, &scratch_);
+    if (e.info_.role == FieldRole::State && stored(e)) e.permute_(at(e), order, this);
 }
 
 void FieldRegistry::erase(const std::vector<uint32_t>& which) {
@@ -113,6 +113,11 @@ void FieldRegistry::assign_field(const Entry& e, const char* bytes, size_t count
   if (count) std::memcpy(e.data_(at(e)), bytes, count * e.element_bytes_);
 }
 
+void FieldRegistry::fill_field(const Entry& e, const char* element, size_t count) {
+  e.resize_(at(e), 0, element);
+  e.resize_(at(e), count, element);
+}
+
 size_t FieldRegistry::bytes_per_particle() const {
   size_t bytes = 0;
   for (const Entry& e : entries_)
@@ -121,7 +126,8 @@ size_t FieldRegistry::bytes_per_particle() const {
 }
 
 size_t FieldRegistry::memory_bytes() const {
-  size_t bytes = scratch_.capacity();
+  size_t bytes = 0;
+  for (const Spares::Spare& s : spares_.list) bytes += s.bytes(s.vector.get());
   for (const Entry& e : entries_)
     if (stored(e)) bytes += e.capacity_(at(e)) * e.element_bytes_;
   return bytes;

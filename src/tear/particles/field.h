@@ -12,8 +12,11 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <string>
 #include <type_traits>
+#include <typeindex>
+#include <typeinfo>
 #include <vector>
 
 namespace tear {
@@ -105,9 +108,9 @@ class FieldRegistry {
     void (*reserve_)(void*, size_t) = nullptr;
     size_t (*capacity_)(const void*) = nullptr;
     char* (*data_)(void*) = nullptr;  // resize first: the pointer is to the vector's storage
-    // out[k] = v[order[k]] through `scratch`, then back into v.
-    void (*permute_)(void*, const std::vector<uint32_t>& order,
-                     std::vector<char>* scratch) = nullptr;
+    // v[k] becomes v[order[k]]: gathered into the store's spare vector of the type, which
+    // then swaps storage with v (no copy back).
+    void (*permute_)(void*, const std::vector<uint32_t>& order, FieldRegistry* store) = nullptr;
     // Remove the elements at ascending indices `which`, keeping the others in order.
     void (*erase_)(void*, const std::vector<uint32_t>& which) = nullptr;
     // out[c][k] = column c of element rows[k], k < count, for the n_out frame columns.
@@ -160,6 +163,8 @@ class FieldRegistry {
   char* element(const Entry& e, size_t i) { return e.data_(at(e)) + i * e.element_bytes_; }
   // Replace a field's values by `count` elements from `bytes` (element_bytes() each).
   void assign_field(const Entry& e, const char* bytes, size_t count);
+  // Make a field `count` copies of one element (element_bytes() at `element`).
+  void fill_field(const Entry& e, const char* element, size_t count);
   // The frame-column values of entry e (e.info().columns.names.size() of them; components
   // beyond the value's are 0) for particles rows[0 .. count): out[c][k] is column c of
   // particle rows[k].
@@ -187,9 +192,31 @@ class FieldRegistry {
   const void* at(const Entry& e) const { return reinterpret_cast<const char*>(this) + e.offset_; }
   size_t index_of(const Entry& e) const { return size_t(&e - entries_.data()); }
 
+  // permute's buffer for fields of type T (one per type, kept to avoid fresh pages every
+  // reorder; after a reorder it holds a field's previous storage).
+  template <class T>
+  std::vector<T>& spare();
+
+  // The spare vectors, one per field type. A copied store does not copy them (it makes its own
+  // when it first reorders).
+  class Spares {
+   public:
+    struct Spare {
+      std::type_index type;
+      std::shared_ptr<void> vector;            // a std::vector<type>
+      size_t (*bytes)(const void*) = nullptr;  // its capacity in bytes
+    };
+    Spares() = default;
+    Spares(const Spares&) {}
+    Spares(Spares&&) = default;
+    Spares& operator=(const Spares&) { return *this; }
+    Spares& operator=(Spares&&) = default;
+    std::vector<Spare> list;
+  };
+
   std::vector<Entry> entries_;
   std::vector<char> enabled_;  // per entry; only read for optional ones
-  std::vector<char> scratch_;  // permute's buffer, kept to avoid fresh pages every reorder
+  Spares spares_;
 };
 
 // A per-particle field: a std::vector<T> that registers itself in its store at construction.
@@ -265,20 +292,17 @@ void FieldRegistry::add(std::vector<T>* field, FieldInfo info, T default_value) 
       for (size_t k = 0; k < count; ++k) column[k] = FieldValue<T>::component(v[rows[k]], c);
     }
   };
-  e.permute_ = [](void* f, const std::vector<uint32_t>& order, std::vector<char>* scratch) {
+  e.permute_ = [](void* f, const std::vector<uint32_t>& order, FieldRegistry* store) {
     V& v = *static_cast<V*>(f);
+    V& spare = store->spare<T>();
     const size_t n = order.size();
-    if (scratch->size() < n * sizeof(T))
-      reserve_large(scratch, n * sizeof(T)), scratch->resize(n * sizeof(T));
-    T* out = reinterpret_cast<T*>(scratch->data());
+    reserve_large(&spare, n);
+    spare.resize(n);
+    T* out = spare.data();
     const T* in = v.data();
     parallel_for(
         n, [&](size_t k) { std::memcpy(static_cast<void*>(out + k), in + order[k], sizeof(T)); });
-    constexpr size_t kCopy = 8192;  // elements per parallel copy back
-    parallel_for((n + kCopy - 1) / kCopy, [&](size_t c) {
-      const size_t a = c * kCopy, b = std::min(n, a + kCopy);
-      std::memcpy(static_cast<void*>(v.data() + a), out + a, (b - a) * sizeof(T));
-    });
+    v.swap(spare);
   };
   e.erase_ = [](void* f, const std::vector<uint32_t>& which) {
     V& v = *static_cast<V*>(f);
@@ -295,6 +319,17 @@ void FieldRegistry::add(std::vector<T>* field, FieldInfo info, T default_value) 
   };
   entries_.push_back(std::move(e));
   enabled_.push_back(0);
+}
+
+template <class T>
+std::vector<T>& FieldRegistry::spare() {
+  for (Spares::Spare& s : spares_.list)
+    if (s.type == std::type_index(typeid(T))) return *static_cast<std::vector<T>*>(s.vector.get());
+  spares_.list.push_back({std::type_index(typeid(T)), std::make_shared<std::vector<T>>(),
+                          [](const void* v) {
+                            return static_cast<const std::vector<T>*>(v)->capacity() * sizeof(T);
+                          }});
+  return *static_cast<std::vector<T>*>(spares_.list.back().vector.get());
 }
 
 }  // namespace tear

@@ -58,9 +58,11 @@ struct Particles : FieldRegistry {
   // Home block slot at the last reorder (-1: never reordered); the reorder decision, and so the
   // summation order, depends on it, so it is part of the restartable state.
   Field<int32_t> reorder_slot{this, state_field("reorder_slot"), -1};
-  // This step's undegraded first Piola stress P(F) and J = det F (the constitutive phase).
-  Field<M> stress{this, scratch_field("stress"), M::Zero()};
-  Field<Real> J{this, scratch_field("J"), 1};
+  // This step's undegraded first Piola stress P(F) and J = det F (the constitutive phase; only
+  // where a step has one, mpm/phases.h has_stress_phase: otherwise P2G computes the stress as
+  // it goes).
+  Field<M> stress{this, optional_scratch_field("stress"), M::Zero()};
+  Field<Real> J{this, optional_scratch_field("J"), 1};
   // This step's damage gradient, where crack fields are split (mpm/crack_fields.cpp).
   Field<V> damage_gradient{this, optional_scratch_field("damage_gradient"), V::Zero()};
   // Optional frame columns. The crack driving force the damage update used, Dtilde (`drive`;
