@@ -134,6 +134,36 @@ void check_g2p_figures() {
   EXPECT_TRUE(std::isinf(by_pass(speed2)));
 }
 
+// KeptBox::speed2_or_fault is +inf exactly where fault_kind finds a fault, and |v|^2 elsewhere.
+TEST(Sort, SpeedOrFaultIsInfiniteExactlyForFaults) {
+  MpmSettings settings;
+  settings.dx = 0.1;
+  settings.domain_min = Vec3d::Zero();
+  settings.domain_max = Vec3d::Ones();
+  const KeptBox<3> kept(settings);
+  constexpr Real nan = std::numeric_limits<Real>::quiet_NaN();
+  constexpr Real inf = std::numeric_limits<Real>::infinity();
+  const Real big = std::sqrt(std::numeric_limits<Real>::max());
+  const Vec<3> in(0.5, 0.3, 0.7), v(1, -2, 3);
+  const std::vector<Vec<3>> xs = {in,
+                                  Vec<3>(0.1, 0.5, 0.5),  // on the low face
+                                  Vec<3>(0.5, 0.9, 0.5),  // on the high face
+                                  Vec<3>(0.5, 0.5, 0.95),
+                                  Vec<3>(nan, 0.5, 0.5),
+                                  Vec<3>(0.5, inf, 0.5),
+                                  Vec<3>(0.5, 0.5, -inf)};
+  const std::vector<Vec<3>> vs = {v, Vec<3>(nan, 0, 0), Vec<3>(0, -inf, 0), Vec<3>(big, big, 0),
+                                  Vec<3>::Zero()};
+  for (const Vec<3>& x : xs)
+    for (const Vec<3>& u : vs) {
+      const Real s = kept.speed2_or_fault(x, u);
+      const bool fault = kept.fault_kind(x, u) != 0 || !std::isfinite(u.squaredNorm());
+      EXPECT_EQ(std::isinf(s), fault) << x.transpose() << " | " << u.transpose();
+      if (!fault) EXPECT_EQ(s, u.squaredNorm());
+    }
+  EXPECT_EQ(kept.speed2_or_fault(in, v), Real(14));
+}
+
 TEST(Sort, G2pFiguresEqualAPassOverTheParticles2D) { check_g2p_figures<2>(); }
 TEST(Sort, G2pFiguresEqualAPassOverTheParticles3D) { check_g2p_figures<3>(); }
 

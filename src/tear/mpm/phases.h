@@ -103,9 +103,15 @@ struct KeptBox {
     if ((x.array() <= lo.array()).any() || (x.array() >= hi.array()).any()) return 1;
     return 0;
   }
-  // What speed2_or_fault (mpm/measure.h) takes the largest of: |v|^2, or +inf for a fault.
+  // What speed2_or_fault (mpm/measure.h) takes the largest of: |v|^2, or +inf for a fault (or
+  // a square that overflows). As fault_kind != 0, in fewer tests (G2P runs it per particle): a
+  // comparison with NaN is false, and a v that is not finite has a square that is not.
   Real speed2_or_fault(const Vec<Dim>& x, const Vec<Dim>& v) const {
-    return fault_kind(x, v) ? std::numeric_limits<Real>::infinity() : v.squaredNorm();
+    bool inside = true;
+    for (int d = 0; d < Dim; ++d) inside &= (x[d] > lo[d]) & (x[d] < hi[d]);
+    const Real s = v.squaredNorm();
+    return inside && s <= std::numeric_limits<Real>::max() ? s
+                                                          : std::numeric_limits<Real>::infinity();
   }
 };
 
