@@ -79,7 +79,7 @@ class MpmSimulation final : public Simulation {
             g.v[i][0] = std::numeric_limits<Real>::quiet_NaN();
             state_.moved_step = -1;  // G2P's figures no longer describe the velocities
           }
-    // One pass over the particles: the next step's speed limit, and faults (infinity).
+    // The next step's speed limit, and faults (infinity): G2P recorded it.
     speed2_ = speed2_or_fault(settings_, state_);
     if (std::isinf(speed2_))
       if (const ParticleFault f = find_particle_fault(settings_, state_)) throw unstable(f, dt);

@@ -45,9 +45,10 @@ struct ParticleFault {
 template <int Dim>
 ParticleFault find_particle_fault(const MpmSettings& settings, const MpmState<Dim>& state);
 
-// One pass for what a run checks after each step: the largest squared particle speed on this
-// process (what dt_limits needs for the next step), or +infinity where some particle has a
-// fault (find_particle_fault then names it) or a speed whose square overflows.
+// What a run checks after each step: the largest squared particle speed on this process (what
+// dt_limits needs for the next step), or +infinity where some particle has a fault
+// (find_particle_fault then names it) or a speed whose square overflows. G2P's figure where it
+// describes the state (MpmState::moved), else one pass over the particles.
 template <int Dim>
 Real speed2_or_fault(const MpmSettings& settings, const MpmState<Dim>& state);
 

@@ -31,7 +31,7 @@ template <int Dim>
 DtLimits dt_limits(const MpmSettings& settings, const MpmState<Dim>& state, const Domain& domain);
 
 // The same, with this process's largest squared particle speed given by a caller that has it
-// already (speed2_or_fault, mpm/measure.h: a run scans the particles once after each step).
+// already (speed2_or_fault, mpm/measure.h: what G2P recorded, or one pass over the particles).
 template <int Dim>
 DtLimits dt_limits(const MpmSettings& settings, const MpmState<Dim>& state, const Domain& domain,
                    Real speed2);
