@@ -164,50 +164,6 @@ class MpmSimulation final : public Simulation {
   ByteWriter checkpoint() const override { return encode(true); }
   size_t checkpoint_bytes_max() const override { return encode(false).size(); }
 
- private:
-  // compact: fields that hold one value for every particle written once (put_fields).
-  ByteWriter encode(bool compact) const {
-    ByteWriter w;
-    w.put_bytes(kCheckpointMagic);
-    w.put<int32_t>(Dim);
-    w.put<int32_t>(sizeof(Real));
-    w.put<uint32_t>(uint32_t(state_.groups.size()));
-    for (const Particles<Dim>& g : state_.groups) w.put<uint64_t>(g.size());
-    w.put<double>(state_.time);
-    w.put<int64_t>(state_.steps);
-    w.put<int32_t>(state_.implicit_multigrid ? 1 : 0);
-    w.put<int32_t>(frame_);
-    w.put<int64_t>(steps_since_stats_);
-    w.put<double>(dt_min_);
-    w.put<double>(dt_max_);
-    w.put<int64_t>(record_.steps_redone);
-    const DamageSolveStats& ds = record_.damage;
-    w.put<int64_t>(ds.solves);
-    w.put<int64_t>(ds.iterations);
-    w.put<int32_t>(ds.iterations_max);
-    w.put<double>(ds.change_max);
-    w.put<int64_t>(ds.unconverged);
-    const ImplicitSolveStats& is = record_.implicit;
-    w.put<int64_t>(is.solves);
-    w.put<int64_t>(is.newton_iterations);
-    w.put<int32_t>(is.newton_iterations_max);
-    w.put<int64_t>(is.cg_iterations);
-    w.put<double>(is.residual_max);
-    w.put<int64_t>(is.unconverged);
-    w.put<int64_t>(is.multigrid_solves);
-    const InextensibilityStats& xs = record_.inextensibility;
-    w.put<int64_t>(xs.solves);
-    w.put<int64_t>(xs.cg_iterations);
-    w.put<int32_t>(xs.cg_iterations_max);
-    w.put<double>(xs.residual_max);
-    w.put<int64_t>(xs.unconverged);
-    for (const Particles<Dim>& g : state_.groups) put_fields(g, &w, compact);
-    put_checksum(&w);
-    return w;
-  }
-
- public:
-
   void decode_checkpoint(const std::string& bytes) override {
     const size_t prefix = kCheckpointMagic.size() - 1;  // "TEARCKP", then the version
     if (bytes.size() < kCheckpointMagic.size() ||
@@ -316,6 +272,47 @@ class MpmSimulation final : public Simulation {
   }
 
  private:
+  // compact: fields that hold one value for every particle written once (put_fields).
+  ByteWriter encode(bool compact) const {
+    ByteWriter w;
+    w.put_bytes(kCheckpointMagic);
+    w.put<int32_t>(Dim);
+    w.put<int32_t>(sizeof(Real));
+    w.put<uint32_t>(uint32_t(state_.groups.size()));
+    for (const Particles<Dim>& g : state_.groups) w.put<uint64_t>(g.size());
+    w.put<double>(state_.time);
+    w.put<int64_t>(state_.steps);
+    w.put<int32_t>(state_.implicit_multigrid ? 1 : 0);
+    w.put<int32_t>(frame_);
+    w.put<int64_t>(steps_since_stats_);
+    w.put<double>(dt_min_);
+    w.put<double>(dt_max_);
+    w.put<int64_t>(record_.steps_redone);
+    const DamageSolveStats& ds = record_.damage;
+    w.put<int64_t>(ds.solves);
+    w.put<int64_t>(ds.iterations);
+    w.put<int32_t>(ds.iterations_max);
+    w.put<double>(ds.change_max);
+    w.put<int64_t>(ds.unconverged);
+    const ImplicitSolveStats& is = record_.implicit;
+    w.put<int64_t>(is.solves);
+    w.put<int64_t>(is.newton_iterations);
+    w.put<int32_t>(is.newton_iterations_max);
+    w.put<int64_t>(is.cg_iterations);
+    w.put<double>(is.residual_max);
+    w.put<int64_t>(is.unconverged);
+    w.put<int64_t>(is.multigrid_solves);
+    const InextensibilityStats& xs = record_.inextensibility;
+    w.put<int64_t>(xs.solves);
+    w.put<int64_t>(xs.cg_iterations);
+    w.put<int32_t>(xs.cg_iterations_max);
+    w.put<double>(xs.residual_max);
+    w.put<int64_t>(xs.unconverged);
+    for (const Particles<Dim>& g : state_.groups) put_fields(g, &w, compact);
+    put_checksum(&w);
+    return w;
+  }
+
   std::string material_name(uint16_t m) const {
     return m < material_names_.size() ? material_names_[m] : "?";
   }

@@ -135,7 +135,6 @@ StateFigures reduce_figures(const StateFigures& local, const Domain& domain) {
   return s;
 }
 
-
 template <int Dim>
 Real speed2_or_fault(const MpmSettings& settings, const MpmState<Dim>& state) {
   if (state.moved_step == state.steps) return state.moved.speed2;  // G2P's, no second pass
@@ -167,8 +166,8 @@ ParticleFault find_particle_fault(const MpmSettings& settings, const MpmState<Di
       fault.index = i;
       fault.id = p.id[i];
       fault.material = p.material[i];
-      fault.kind = kept.fault_kind(p.x[i], p.v[i]) == 2 ? ParticleFault::Kind::NonFinite
-                                               : ParticleFault::Kind::LeftDomain;
+      fault.kind =
+          kind(i) == 2 ? ParticleFault::Kind::NonFinite : ParticleFault::Kind::LeftDomain;
       fault.x.head<Dim>() = p.x[i].template cast<double>();
       fault.v.head<Dim>() = p.v[i].template cast<double>();
       break;

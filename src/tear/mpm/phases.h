@@ -3,12 +3,12 @@
 // the damage phase is damage/phase_field.h's update_damage.
 #pragma once
 
-#include <limits>
-
 #include "tear/exec/domain.h"
 #include "tear/exec/parallel.h"
 #include "tear/mpm/settings.h"
 #include "tear/mpm/state.h"
+
+#include <limits>
 
 namespace tear {
 
