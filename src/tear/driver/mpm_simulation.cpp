@@ -155,9 +155,14 @@ class MpmSimulation final : public Simulation {
     return s;
   }
 
-  const PointTable& frame_table() const override {
+  PointRows frame_rows() const override {
     const Particles<Dim>& p = state_.groups.at(0);  // one group per scene today
-    fill_frame_table(p, rows_by_id(p.id), &table_);
+    rows_ = rows_by_id(p.id);
+    return tear::frame_rows(p, rows_);
+  }
+
+  const PointTable& frame_table() const override {
+    fill_table(frame_rows(), &table_);
     return table_;
   }
 
@@ -356,7 +361,8 @@ class MpmSimulation final : public Simulation {
   StepRecord record_;
   LocalDomain domain_;
   std::chrono::steady_clock::time_point start_;
-  mutable PointTable table_;  // frame_table()'s, reused
+  mutable std::vector<uint32_t> rows_;  // frame_rows()'s: particle indices in id order
+  mutable PointTable table_;            // frame_table()'s, reused
   int frame_ = 0;
   long steps_since_stats_ = 0;
   long inject_nan_step_ = -1;  // TEAR_TEST_INJECT_NAN

@@ -81,21 +81,35 @@ class StopSignals {
   struct sigaction old_int_ {}, old_term_ {};
 };
 
-// The frame in every format the scene asks for; with vtu, DIR/frames.pvd lists it at its time
-// (recorded in `vtu_times`, the times of the frames written before). Returns the frame's table
-// (for --render; valid until the next frame_table()).
-const PointTable& write_frame(const std::string& dir, int frame, const Simulation& sim,
-                              const std::vector<std::string>& formats,
-                              std::map<int, double>* vtu_times) {
-  const PointTable& table = sim.frame_table();
-  for (const std::string& f : formats)
-    write_file_atomic(frame_path(dir, frame, f), encode_points(table, f));
-  if (std::find(formats.begin(), formats.end(), "vtu") != formats.end()) {
-    (*vtu_times)[frame] = sim.time();
-    write_frames_pvd(dir, *vtu_times);
+// Writes a run's frames: every format the scene asks for, from rows made as the encoder reads
+// them, into one buffer kept for the whole run (a frame is tens of MB, and fresh pages cost
+// more than writing them); with vtu, DIR/frames.pvd lists each frame at its time.
+class FrameWriter {
+ public:
+  FrameWriter(std::string dir, std::vector<std::string> formats)
+      : dir_(std::move(dir)), formats_(std::move(formats)) {}
+  // A resumed run: the times of the frames written before (frames.pvd lists them too).
+  void resume(std::map<int, double> vtu_times) { vtu_times_ = std::move(vtu_times); }
+
+  void write(int frame, const Simulation& sim) {
+    const PointRows rows = sim.frame_rows();
+    for (const std::string& f : formats_) {
+      encode_points(rows, f, &buffer_, &table_);
+      write_file_atomic(frame_path(dir_, frame, f), buffer_);
+    }
+    if (std::find(formats_.begin(), formats_.end(), "vtu") != formats_.end()) {
+      vtu_times_[frame] = sim.time();
+      write_frames_pvd(dir_, vtu_times_);
+    }
   }
-  return table;
-}
+
+ private:
+  std::string dir_;
+  std::vector<std::string> formats_;
+  std::map<int, double> vtu_times_;  // the times of the frames written so far
+  std::string buffer_;
+  PointTable table_;  // for the formats written column by column
+};
 
 // For choosing sigma_c: the uniaxial stretch (other directions held) at which a particle of
 // the material starts to crack, across and along its primary fiber.
@@ -283,7 +297,7 @@ int run_scene(const RunOptions& o) {
     const std::string checkpoint_path = (dir / "checkpoints" / "latest.bin").string();
     const std::string previous_path = (dir / "checkpoints" / "previous.bin").string();
     std::vector<std::string> stats;
-    std::map<int, double> vtu_times;  // for frames.pvd
+    FrameWriter frames(o.out_dir, scene.formats);
 
     const std::string old_scene = (dir / "scene.json").string();
     bool resume = o.resume;
@@ -336,7 +350,7 @@ int run_scene(const RunOptions& o) {
       }
       if (!fs::exists(stats_path)) return fail(stats_path + ": missing; cannot resume");
       stats = stats_up_to(stats_path, sim->frame());
-      vtu_times = frame_times(stats);
+      frames.resume(frame_times(stats));
       // Record the new frame count; everything else was checked to be equal.
       write_file_atomic(old_scene, scene.resolved.dump(2) + "\n");
       if (renderer) renderer->resume(sim->frame());
@@ -351,10 +365,10 @@ int run_scene(const RunOptions& o) {
       fs::remove(dir / "frames.pvd");
       make_directories((dir / "frames").string());
       write_file_atomic((dir / "scene.json").string(), scene.resolved.dump(2) + "\n");
-      const PointTable& first = write_frame(o.out_dir, 0, *sim, scene.formats, &vtu_times);
+      frames.write(0, *sim);
       if (renderer) {
         renderer->clear();
-        renderer->render(0, first);
+        renderer->render(0, sim->frame_table());
       }
       FrameStats s = sim->collect_stats();
       stats.push_back(s.to_json().dump());
@@ -407,8 +421,8 @@ int run_scene(const RunOptions& o) {
         warned_unconverged = true;
       }
       if (frame % scene.output_every == 0 || frame == scene.frames) {
-        const PointTable& table = write_frame(o.out_dir, frame, *sim, scene.formats, &vtu_times);
-        if (renderer) renderer->render(frame, table);
+        frames.write(frame, *sim);
+        if (renderer) renderer->render(frame, sim->frame_table());
       }
       stats.push_back(s.to_json().dump());
       write_lines_atomic(stats_path, stats);
@@ -552,9 +566,10 @@ int check_scene(const std::string& scene_path, const std::vector<std::string>& o
     out << "\n";
     const DtLimits limits = sim->dt_limits();
     const double dt = limits.dt();
-    const PointTable table = sim->frame_table();
     size_t frame_bytes = 0;
-    for (const std::string& f : s.formats) frame_bytes += encode_points(table, f).size();
+    std::string encoded;
+    for (const std::string& f : s.formats)
+      encode_points(sim->frame_rows(), f, &encoded), frame_bytes += encoded.size();
     const size_t checkpoint = sim->checkpoint().size();
     const size_t checkpoint_max = sim->checkpoint_bytes_max();
     // Frame 0, every output_every-th frame, and the last frame.

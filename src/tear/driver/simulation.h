@@ -88,8 +88,11 @@ class Simulation {
   // Statistics of the current state; step figures are those since the last call.
   virtual FrameStats collect_stats() = 0;
   // The current particles as the frame files' columns (ARCHITECTURE.md "Outputs"), rows in id
-  // order; io/frames.h encodes it in each output format. Valid until the next call (the
-  // simulation reuses its storage from frame to frame).
+  // order, made a chunk at a time as an encoder reads them (io/frames.h encodes them in each
+  // output format). Valid until the state changes or the next call.
+  virtual PointRows frame_rows() const = 0;
+  // The same rows as a whole table (for the renderer and checks). Valid until the next call
+  // (the simulation reuses its storage from frame to frame).
   virtual const PointTable& frame_table() const = 0;
   // Wall seconds spent so far in each phase of the step, in step order (for people).
   virtual std::vector<std::pair<std::string, double>> phase_seconds() const = 0;

@@ -9,49 +9,31 @@
 
 namespace tear {
 
-PointTable frame_table(const FieldRegistry& store, const std::vector<uint32_t>& rows) {
-  PointTable t;
-  fill_frame_table(store, rows, &t);
-  return t;
-}
-
-void fill_frame_table(const FieldRegistry& store, const std::vector<uint32_t>& rows,
-                      PointTable* table) {
-  // The columns, in order: (entry, its column k).
-  std::vector<std::pair<const FieldRegistry::Entry*, size_t>> columns;
-  std::vector<std::string> names;
-  std::vector<ColumnType> types;
+PointRows frame_rows(const FieldRegistry& store, const std::vector<uint32_t>& rows) {
+  // The columns, in order: each entry with columns, then its column count.
+  std::vector<const FieldRegistry::Entry*> entries;
+  PointRows r;
+  r.count = rows.size();
   for (const FieldRegistry::Entry& e : store.entries()) {
     const FieldColumns& c = e.info().columns;
     if (c.names.empty() || !store.enabled(e)) continue;
-    for (size_t k = 0; k < c.names.size(); ++k) {
-      columns.emplace_back(&e, k);
-      names.push_back(c.names[k]);
-      types.push_back(c.type);
-    }
+    entries.push_back(&e);
+    for (const std::string& name : c.names) r.names.push_back(name), r.types.push_back(c.type);
   }
-  PointTable& t = *table;
-  if (t.names != names || t.types != types) {
-    t = PointTable();
-    t.names = names;
-    t.types = types;
-    t.columns.resize(names.size());
-  }
-  t.count = rows.size();
-  for (std::vector<double>& c : t.columns) reserve_large(&c, rows.size()), c.resize(rows.size());
-  // In chunks of rows, every field's columns for a chunk (its fields read once, in cache).
-  constexpr size_t kChunk = 4096;
-  parallel_for((rows.size() + kChunk - 1) / kChunk, [&](size_t chunk) {
-    const size_t begin = chunk * kChunk, count = std::min(rows.size(), begin + kChunk) - begin;
-    double* out[8];
-    for (size_t j = 0; j < columns.size();) {
-      const FieldRegistry::Entry& e = *columns[j].first;
-      const size_t n = e.info().columns.names.size();
-      for (size_t c = 0; c < n; ++c) out[c] = t.columns[j + c].data() + begin;
-      store.columns(e, rows.data() + begin, count, out);
-      j += n;
+  // A chunk of rows: every field's columns for it (its fields read once, in cache).
+  r.fill = [&store, &rows, entries](size_t begin, size_t n, double* const* out) {
+    for (const FieldRegistry::Entry* e : entries) {
+      store.columns(*e, rows.data() + begin, n, out);
+      out += e->info().columns.names.size();
     }
-  });
+  };
+  return r;
+}
+
+PointTable frame_table(const FieldRegistry& store, const std::vector<uint32_t>& rows) {
+  PointTable t;
+  fill_table(frame_rows(store, rows), &t);
+  return t;
 }
 
 namespace {

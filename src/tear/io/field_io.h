@@ -13,13 +13,11 @@
 namespace tear {
 
 // The frame columns of every enabled field (and derived columns) of `store`, in declaration
-// order; row k is particle rows[k].
+// order; row k is particle rows[k]. The rows refer to `store` and `rows`, which must outlive
+// them and not change meanwhile.
+PointRows frame_rows(const FieldRegistry& store, const std::vector<uint32_t>& rows);
+// The same as a table.
 PointTable frame_table(const FieldRegistry& store, const std::vector<uint32_t>& rows);
-// The same into `table`, reusing its columns' storage when it holds a table of the same shape
-// (a run writes a frame of the same particles again and again: fresh pages cost more than the
-// copy).
-void fill_frame_table(const FieldRegistry& store, const std::vector<uint32_t>& rows,
-                      PointTable* table);
 
 // rows[k] = the index of the particle whose id is k: frame rows in id order, so frames compare
 // row by row across frames and runs. Throws std::runtime_error unless the ids are a permutation

@@ -118,9 +118,23 @@ PointTable read_frame(const std::string &path) {
 }
 
 std::string encode_points(const PointTable &table, const std::string &format) {
-  if (format == "ply") return encode_ply(table);
   if (format == "bgeo") return encode_bgeo(table);
   if (format == "vtu") return encode_vtu(table);
+  std::string out;
+  encode_points(rows_of(table), format, &out);
+  return out;
+}
+
+void encode_points(const PointRows &rows, const std::string &format, std::string *out,
+                   PointTable *scratch) {
+  if (format == "ply") return encode_ply(rows, out);
+  if (format == "bgeo" || format == "vtu") {
+    PointTable own;
+    PointTable &table = scratch ? *scratch : own;
+    fill_table(rows, &table);
+    *out = encode_points(table, format);
+    return;
+  }
   throw std::runtime_error("unknown point format \"" + format + "\" (expected one of: " +
                            point_format_list() + ")");
 }

@@ -52,5 +52,10 @@ FrameRange parse_frame_range(const std::string &text);
 PointTable read_frame(const std::string &path);
 // Encode a table in `format` (one of point_formats()).
 std::string encode_points(const PointTable &table, const std::string &format);
+// Encode rows in `format` into `out` (its storage reused). PLY is written a chunk of rows at a
+// time; the other formats are column by column and take the whole table first (into
+// `scratch` where given, whose storage is reused).
+void encode_points(const PointRows &rows, const std::string &format, std::string *out,
+                   PointTable *scratch = nullptr);
 
 }  // namespace tear

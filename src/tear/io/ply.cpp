@@ -34,29 +34,37 @@ TypeInfo info(ColumnType t) {
 
 }  // namespace
 
-std::string encode_ply(const PointTable& t) {
-  t.check_shape();
-  std::string out =
+void encode_ply(const PointRows& rows, std::string* out) {
+  std::string header =
       "ply\nformat binary_little_endian 1.0\ncomment written by tear\nelement vertex " +
-      std::to_string(t.count) + "\n";
+      std::to_string(rows.count) + "\n";
   size_t row = 0;
-  for (size_t c = 0; c < t.names.size(); ++c) {
-    out += "property " + std::string(info(t.types[c]).name) + " " + t.names[c] + "\n";
-    row += info(t.types[c]).size;
+  for (size_t c = 0; c < rows.names.size(); ++c) {
+    header += "property " + std::string(info(rows.types[c]).name) + " " + rows.names[c] + "\n";
+    row += info(rows.types[c]).size;
   }
-  out += "end_header\n";
-  const size_t header = out.size();
-  reserve_large(&out, header + row * t.count);
-  out.resize(header + row * t.count);
+  header += "end_header\n";
+  // Every byte is written below: a buffer kept from the last frame is not cleared first.
+  reserve_large(out, header.size() + row * rows.count);
+  out->resize(header.size() + row * rows.count);
+  std::copy(header.begin(), header.end(), out->begin());
   // Vertex-major: row i holds every column's value i. Values must fit the column's type. Rows
-  // are independent: chunks of them in parallel.
+  // are independent: chunks of them in parallel, each made into a small table first.
   constexpr size_t kRows = 4096;
-  parallel_for((t.count + kRows - 1) / kRows, [&](size_t chunk) {
-    char* p = &out[header + chunk * kRows * row];
-    for (size_t i = chunk * kRows; i < std::min(t.count, (chunk + 1) * kRows); ++i) {
-      for (size_t c = 0; c < t.names.size(); ++c) {
-        const double v = t.columns[c][i];
-        switch (t.types[c]) {
+  const size_t columns = rows.names.size();
+  parallel_for((rows.count + kRows - 1) / kRows, [&](size_t chunk) {
+    const size_t begin = chunk * kRows, n = std::min(rows.count, begin + kRows) - begin;
+    thread_local std::vector<double> values;
+    thread_local std::vector<double*> column;
+    values.resize(columns * kRows);
+    column.resize(columns);
+    for (size_t c = 0; c < columns; ++c) column[c] = values.data() + c * kRows;
+    rows.fill(begin, n, column.data());
+    char* p = &(*out)[header.size() + begin * row];
+    for (size_t i = 0; i < n; ++i) {
+      for (size_t c = 0; c < columns; ++c) {
+        const double v = column[c][i];
+        switch (rows.types[c]) {
           case ColumnType::Int32: store_le(p, int32_t(v)), p += 4; break;
           case ColumnType::UInt8: store_le(p, uint8_t(v)), p += 1; break;
           case ColumnType::Float32: store_le(p, float(v)), p += 4; break;
@@ -65,6 +73,11 @@ std::string encode_ply(const PointTable& t) {
       }
     }
   });
+}
+
+std::string encode_ply(const PointTable& t) {
+  std::string out;
+  encode_ply(rows_of(t), &out);
   return out;
 }
 

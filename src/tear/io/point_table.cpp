@@ -1,5 +1,8 @@
 #include "tear/io/point_table.h"
 
+#include "tear/exec/memory.h"
+#include "tear/exec/parallel.h"
+
 #include <algorithm>
 #include <stdexcept>
 
@@ -24,6 +27,38 @@ void PointTable::add(const std::string &name, ColumnType type, std::vector<doubl
 
 bool PointTable::has(const std::string &name) const {
   return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+PointRows rows_of(const PointTable &t) {
+  t.check_shape();
+  PointRows r;
+  r.count = t.count;
+  r.names = t.names;
+  r.types = t.types;
+  r.fill = [&t](size_t begin, size_t n, double *const *out) {
+    for (size_t c = 0; c < t.columns.size(); ++c)
+      std::copy_n(t.columns[c].data() + begin, n, out[c]);
+  };
+  return r;
+}
+
+void fill_table(const PointRows &rows, PointTable *table) {
+  PointTable &t = *table;
+  if (t.names != rows.names || t.types != rows.types) {
+    t = PointTable();
+    t.names = rows.names;
+    t.types = rows.types;
+    t.columns.resize(rows.names.size());
+  }
+  t.count = rows.count;
+  for (std::vector<double> &c : t.columns) reserve_large(&c, rows.count), c.resize(rows.count);
+  constexpr size_t kChunk = 4096;
+  parallel_for((rows.count + kChunk - 1) / kChunk, [&](size_t chunk) {
+    const size_t begin = chunk * kChunk, n = std::min(rows.count, begin + kChunk) - begin;
+    std::vector<double *> out(t.columns.size());
+    for (size_t c = 0; c < out.size(); ++c) out[c] = t.columns[c].data() + begin;
+    rows.fill(begin, n, out.data());
+  });
 }
 
 bool ColumnNames::add(const std::string &name, std::string *why) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <string>
 #include <unordered_set>
 #include <vector>
@@ -29,6 +30,23 @@ struct PointTable {
   // holds `count` values (what the encoders rely on).
   void check_shape() const;
 };
+
+// The rows of a table made on demand, a chunk at a time: what a frame encoder reads instead of
+// a whole PointTable (a frame of 475k particles held as doubles is 46 MB that nobody keeps).
+struct PointRows {
+  size_t count = 0;
+  std::vector<std::string> names;
+  std::vector<ColumnType> types;
+  // Writes column c of rows [begin, begin + n) to out[c][0 .. n), for every column. Called
+  // from several threads at once, each with its own chunk.
+  std::function<void(size_t begin, size_t n, double *const *out)> fill;
+};
+
+// A table's rows (the view refers to `t`, which must outlive it).
+PointRows rows_of(const PointTable &t);
+// All of `rows` into `table`, in parallel chunks, reusing its columns' storage when it has the
+// same names and types (fresh pages cost more than the copy).
+void fill_table(const PointRows &rows, PointTable *table);
 
 // Limits of the point readers (PLY, BGEO, VTU), far beyond a frame's few dozen columns of short
 // names: a corrupt count or name length gets a clear error instead of millions of column names.
