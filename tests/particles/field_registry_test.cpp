@@ -275,6 +275,7 @@ TEST(FieldRegistry, CheckpointWritesAFieldOfOneValueOnce) {
 TEST(FieldRegistry, CheckpointOfOtherFieldsIsRefusedByName) {
   TestStore s = store_of(2);
   s.enable("sometimes");
+  s.sometimes[1] = 5;  // not the default (-3) everywhere: a store with it off cannot skip it
   ByteWriter writer;
   put_fields(s, &writer);
   const std::string bytes = writer.bytes();
@@ -304,6 +305,76 @@ TEST(FieldRegistry, CheckpointOfOtherFieldsIsRefusedByName) {
   const std::string cut = bytes.substr(0, bytes.size() - 1);
   ByteReader r3(cut);
   EXPECT_THROW(get_fields(&r3, 2, &other), std::runtime_error);  // truncated
+}
+
+// A checkpoint field that the store has off is skipped where it holds nothing but the field's
+// default (what off means; a tear before 2026-12 wrote the fiber frame of every body), in the
+// compact and the full layout, and refused where one value differs.
+TEST(FieldRegistry, CheckpointFieldOfDefaultsThatTheStoreHasOffIsSkipped) {
+  for (const bool compact : {true, false}) {
+    SCOPED_TRACE(compact ? "compact" : "full");
+    TestStore s = store_of(3);
+    s.enable("sometimes");  // every value the default, -3
+    ASSERT_TRUE(s.enabled("fiber"));
+    for (size_t i = 0; i < 3; ++i) s.F[i](1, 0) = Real(i);
+    ByteWriter w;
+    put_fields(s, &w, compact);
+    const std::string bytes = w.bytes();
+    TestStore back;
+    ASSERT_TRUE(back.drop_identity_fibers());  // empty: every frame the identity
+    ByteReader r(bytes);
+    get_fields(&r, 3, &back, true);
+    EXPECT_TRUE(r.at_end());
+    EXPECT_FALSE(back.enabled("fiber"));
+    EXPECT_FALSE(back.enabled("sometimes"));
+    ASSERT_EQ(back.size(), 3u);
+    for (size_t i = 0; i < 3; ++i) {
+      EXPECT_EQ(back.F[i], s.F[i]);
+      EXPECT_EQ(back.fiber_of(i), Mat<2>::Identity());
+      EXPECT_EQ(back.test_only[i], s.test_only[i]);
+    }
+    // One frame turned: the field is not all defaults, and the store without it refuses it.
+    s.fiber[2] << 0, -1, 1, 0;
+    ByteWriter turned;
+    put_fields(s, &turned, compact);
+    const std::string turned_bytes = turned.bytes();
+    TestStore off;
+    off.drop_identity_fibers();
+    ByteReader r2(turned_bytes);
+    try {
+      get_fields(&r2, 3, &off, true);
+      ADD_FAILURE() << "a turned fiber frame was dropped";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("\"fiber\" where \"mass\" was expected"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+}
+
+// Disable releases a field's storage; enable_like turns fields on and off as the other store has
+// them.
+TEST(FieldRegistry, DisableReleasesAndEnableLikeMatchesBothWays) {
+  TestStore s = store_of(4);
+  s.enable("sometimes");
+  EXPECT_EQ(s.sometimes.size(), 4u);
+  s.disable("sometimes");
+  EXPECT_FALSE(s.enabled("sometimes"));
+  EXPECT_EQ(s.sometimes.capacity(), 0u);
+  EXPECT_THROW(s.disable("test_only"), std::invalid_argument);
+  EXPECT_THROW(s.disable("nope"), std::invalid_argument);
+  const size_t with_fiber = s.bytes_per_particle();
+  s.disable("fiber");
+  EXPECT_EQ(s.bytes_per_particle(), with_fiber - sizeof(Mat<2>));
+  TestStore other = store_of(4);
+  other.enable("sometimes");
+  other.enable_like(s);  // fiber and sometimes off
+  EXPECT_FALSE(other.enabled("fiber"));
+  EXPECT_FALSE(other.enabled("sometimes"));
+  s.enable("sometimes");
+  other.enable_like(s);
+  EXPECT_TRUE(other.enabled("sometimes"));
+  EXPECT_EQ(other.sometimes.size(), 4u);
 }
 
 TEST(FieldRegistry, MigrationRecordsRoundTrip) {

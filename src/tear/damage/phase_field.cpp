@@ -121,7 +121,7 @@ Real damage_sweep(Groups<Dim>* groups, const SparseGrid<Dim>& grid,
         if (!dp.enabled) continue;
         Real lap = 0;  // (L d)_p, or M_p : grad grad d with an anisotropic crack surface
         if (window && dp.anisotropic_surface()) {
-          const Mat<Dim> M = crack_surface_tensor<Dim>(p.F[q], p.fiber[q], dp.surface);
+          const Mat<Dim> M = crack_surface_tensor<Dim>(p.F[q], p.fiber_of(q), dp.surface);
           WindowStencil<Dim, kDamageOrder, true>(*window, p.x[q])
               .visit_second(M, [&](int i, Real w) { lap += w * field[i]; });
         } else if (window) {
@@ -171,7 +171,7 @@ bool update_driving_force(std::vector<Particles<Dim>>* groups,
                          if (!dp.enabled) return false;
                          const Real alpha[2] = {Real(dp.alpha[0]), Real(dp.alpha[1])};
                          const Real excess = phi_excess<Dim>(p.stress[i], p.J[i], p.F[i],
-                                                             p.fiber[i], alpha, Real(dp.sigma_c));
+                                                             p.fiber_of(i), alpha, Real(dp.sigma_c));
                          p.drive[i] = std::max(p.drive[i], zeta * excess);
                          return p.drive[i] > 0 || p.damage[i] > 0;
                        }) ||

@@ -91,16 +91,26 @@ void get_fields(ByteReader* r, size_t count, FieldRegistry* store, bool uniform_
   for (const FieldRegistry::Entry& e : store->entries())
     if (checkpointed(*store, e)) expected.push_back(&e);
   const uint32_t fields = r->get<uint32_t>();
-  for (size_t k = 0; k < expected.size(); ++k) {
-    const FieldRegistry::Entry* e = expected[k];
-    if (k == fields)
-      throw corrupt("no particle field \"" + e->info().name + "\"; written by another version?");
+  size_t k = 0;  // expected[k] is the next field the store has
+  for (uint32_t j = 0; j < fields; ++j) {
     const uint32_t length = r->get<uint32_t>();
     if (length > 256) throw corrupt("field name too long");
     const std::string name(r->get_view(length), length);
-    if (name != e->info().name)
-      throw corrupt("particle field \"" + name + "\" where \"" + e->info().name +
-                    "\" was expected; written by another version?");
+    const FieldRegistry::Entry* next = k < expected.size() ? expected[k] : nullptr;
+    // Not the next field: one that this store has off can still be skipped where every value
+    // is the field's default (off means that: a tear before 2026-12 wrote the fiber frame of
+    // every body, the identity where it is now off).
+    const FieldRegistry::Entry* e = next && name == next->info().name ? next : store->find(name);
+    const bool off = e != next && e && e->info().optional && e->info().role == FieldRole::State &&
+                     !store->enabled(*e);
+    auto refuse = [&] {
+      if (!next)
+        return corrupt(std::to_string(fields - j) +
+                       " particle field(s) more than the scene's particles have");
+      return corrupt("particle field \"" + name + "\" where \"" + next->info().name +
+                     "\" was expected; written by another version?");
+    };
+    if (e != next && !off) throw refuse();
     if (r->get<uint32_t>() != e->element_bytes())
       throw corrupt("particle field \"" + name + "\" has another element size");
     const uint64_t n = r->get<uint64_t>();
@@ -109,14 +119,23 @@ void get_fields(ByteReader* r, size_t count, FieldRegistry* store, bool uniform_
                     std::to_string(count) + " particles");
     const uint8_t uniform = uniform_flags ? r->get<uint8_t>() : 0;
     if (uniform > 1) throw corrupt("particle field \"" + name + "\" has a bad layout flag");
+    const size_t values = uniform ? 1 : size_t(n);
+    const char* data = r->get_view(values * e->element_bytes());
+    if (off) {
+      const std::string& def = e->default_bytes();
+      for (size_t i = 0; i < values; ++i)
+        if (std::memcmp(data + i * def.size(), def.data(), def.size()) != 0) throw refuse();
+      continue;
+    }
+    ++k;
     if (uniform)
-      store->fill_field(*e, r->get_view(e->element_bytes()), size_t(n));
+      store->fill_field(*e, data, size_t(n));
     else
-      store->assign_field(*e, r->get_view(size_t(n) * e->element_bytes()), size_t(n));
+      store->assign_field(*e, data, size_t(n));
   }
-  if (fields > expected.size())
-    throw corrupt(std::to_string(fields - expected.size()) +
-                  " particle field(s) more than the scene's particles have");
+  if (k < expected.size())
+    throw corrupt("no particle field \"" + expected[k]->info().name +
+                  "\"; written by another version?");
   store->resize(count);  // the scratch fields
 }
 

@@ -9,7 +9,7 @@ void update_stress(const MpmSettings& settings, MpmState<Dim>* state) {
   for (Particles<Dim>& p : state->groups) {
     parallel_for(p.size(), [&](size_t i) {
       const MaterialParams& m = settings.materials[p.material[i]];
-      p.stress[i] = first_piola<Dim>(m, p.F[i], p.fiber[i]);
+      p.stress[i] = first_piola<Dim>(m, p.F[i], p.fiber_of(i));
       p.J[i] = p.F[i].determinant();
     });
   }

@@ -132,7 +132,7 @@ double IncrementalPotential<Dim>::energy(const std::vector<Real>& v) {
     const Particles<Dim>& p = state_.groups[refs_[k].group];
     const size_t i = refs_[k].index;
     const MaterialParams& m = settings_.materials[p.material[i]];
-    return double(p.vol0[i]) * double(energy_density<Dim>(m, F_[k], p.fiber[i], degradation_[k]));
+    return double(p.vol0[i]) * double(energy_density<Dim>(m, F_[k], p.fiber_of(i), degradation_[k]));
   });
   return kinetic + elastic;
 }
@@ -148,7 +148,7 @@ void IncrementalPotential<Dim>::gradient(const std::vector<Real>& v, std::vector
     const Particles<Dim>& p = state_.groups[refs_[k].group];
     const size_t i = refs_[k].index;
     const MaterialParams& m = settings_.materials[p.material[i]];
-    const Mat<Dim> scaled = (dt_ * p.vol0[i]) * first_piola<Dim>(m, F_[k], p.fiber[i], degradation_[k]);
+    const Mat<Dim> scaled = (dt_ * p.vol0[i]) * first_piola<Dim>(m, F_[k], p.fiber_of(i), degradation_[k]);
     for (int s = 0; s < kStencil; ++s) {
       Eigen::Map<Vec<Dim>> gn(&g[size_t(nodes_[k][size_t(s)]) * Dim]);
       gn += scaled * grads_[k][size_t(s)];
@@ -187,7 +187,7 @@ void IncrementalPotential<Dim>::prepare_hessian(const std::vector<Real>& v) {
     const size_t i = refs_[k].index;
     const MaterialParams& m = settings_.materials[p.material[i]];
     hessian_[k] =
-        p.vol0[i] * projected_stress_derivative<Dim>(m, F_[k], p.fiber[i], degradation_[k]);
+        p.vol0[i] * projected_stress_derivative<Dim>(m, F_[k], p.fiber_of(i), degradation_[k]);
   });
   // The Jacobi diagonal: m_i + dt^2 sum_p u^T A_p(a) u for each component a of node i, where
   // u = F^T grad w and A_p(a) the block of the particle's matrix that e_a u^T meets.

@@ -61,7 +61,7 @@ struct FiberPart {
     const Real d = p.damage[i];
     if (!ip.enabled || !(d < Real(0.5))) return;
     const Real J = p.F[i].determinant();
-    const Vec<Dim> fa = p.F[i] * p.fiber[i].col(0);
+    const Vec<Dim> fa = p.F[i] * p.fiber_of(i).col(0);
     const Real s = fa.norm();
     if (!(J > 0) || !(s > Real(1e-6))) return;
     weight = (1 - d) * J * p.vol0[i];

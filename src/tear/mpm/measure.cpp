@@ -80,7 +80,7 @@ double elastic_energy(const MpmSettings& settings, const MpmState<Dim>& state) {
     const DamageParams& dp = settings.material_damage[p.material[i]];
     const Real g = dp.enabled ? degradation(p.damage[i], Real(dp.residual)) : Real(1);
     return double(p.vol0[i] *
-                  energy_density<Dim>(settings.materials[p.material[i]], p.F[i], p.fiber[i], g));
+                  energy_density<Dim>(settings.materials[p.material[i]], p.F[i], p.fiber_of(i), g));
   });
 }
 

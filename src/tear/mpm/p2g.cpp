@@ -16,8 +16,8 @@ Mat<Dim> p2g_kirchhoff(const MpmSettings& settings, const Particles<Dim>& p, siz
   // Without the constitutive phase (no damage), the stress is made here: P2G is its only use.
   if (!has_stress_phase(settings)) {
     if (model_traits(m.model).closed_form_kirchhoff)
-      return scale * kirchhoff_stress<Dim>(m, F, p.fiber[i]);
-    return scaled(first_piola<Dim>(m, F, p.fiber[i]));
+      return scale * kirchhoff_stress<Dim>(m, F, p.fiber_of(i));
+    return scaled(first_piola<Dim>(m, F, p.fiber_of(i)));
   }
   const DamageParams& dp = settings.material_damage[p.material[i]];
   if (!dp.enabled) return scaled(p.stress[i]);  // g = 1
@@ -26,7 +26,7 @@ Mat<Dim> p2g_kirchhoff(const MpmSettings& settings, const Particles<Dim>& p, siz
   const Real g = degradation(p.damage[i], Real(dp.residual));
   if (p.J[i] > 0)
     return scaled(p.damage[i] == 0 ? p.stress[i] : degrade_qr_stress<Dim>(m, F, p.stress[i], g));
-  return scaled(first_piola<Dim>(m, F, p.fiber[i], g));
+  return scaled(first_piola<Dim>(m, F, p.fiber_of(i), g));
 }
 
 namespace {

@@ -77,15 +77,26 @@ const FieldRegistry::Entry* FieldRegistry::find(const std::string& name) const {
   return nullptr;
 }
 
-void FieldRegistry::enable(const std::string& name) {
+const FieldRegistry::Entry& FieldRegistry::optional_entry(const std::string& name) const {
   const Entry* e = find(name);
   if (!e) throw std::invalid_argument("no particle field \"" + name + "\"");
   if (!e->info_.optional)
     throw std::invalid_argument("particle field \"" + name + "\" is not optional");
-  const size_t k = index_of(*e);
+  return *e;
+}
+
+void FieldRegistry::enable(const std::string& name) {
+  const Entry& e = optional_entry(name);
+  const size_t k = index_of(e);
   if (enabled_[k]) return;
   enabled_[k] = 1;
-  if (!e->derived()) e->resize_(at(*e), size(), e->default_.data());
+  if (!e.derived()) e.resize_(at(e), size(), e.default_.data());
+}
+
+void FieldRegistry::disable(const std::string& name) {
+  const Entry& e = optional_entry(name);
+  enabled_[index_of(e)] = 0;
+  if (!e.derived()) e.release_(at(e));
 }
 
 std::vector<std::string> FieldRegistry::optional_columns() const {
@@ -97,8 +108,13 @@ std::vector<std::string> FieldRegistry::optional_columns() const {
 
 void FieldRegistry::enable_like(const FieldRegistry& other) {
   TEAR_ASSERT(other.entries_.size() == entries_.size());
-  for (size_t k = 0; k < entries_.size(); ++k)
-    if (entries_[k].info_.optional && other.enabled_[k]) enable(entries_[k].info_.name);
+  for (size_t k = 0; k < entries_.size(); ++k) {
+    if (!entries_[k].info_.optional) continue;
+    if (other.enabled_[k])
+      enable(entries_[k].info_.name);
+    else
+      disable(entries_[k].info_.name);
+  }
 }
 
 bool FieldRegistry::stored(const Entry& e) const { return !e.derived() && enabled(e); }

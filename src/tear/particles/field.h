@@ -92,6 +92,8 @@ class FieldRegistry {
     const FieldInfo& info() const { return info_; }
     size_t element_bytes() const { return element_bytes_; }
     int components() const { return components_; }
+    // The value of a new particle, as bytes (element_bytes() of them).
+    const std::string& default_bytes() const { return default_; }
     // A derived entry stores nothing: it is frame columns computed from other fields.
     bool derived() const { return derived_ != nullptr; }
 
@@ -106,6 +108,7 @@ class FieldRegistry {
     size_t (*size_)(const void*) = nullptr;
     void (*resize_)(void*, size_t, const char* default_value) = nullptr;
     void (*reserve_)(void*, size_t) = nullptr;
+    void (*release_)(void*) = nullptr;  // empty, with no storage
     size_t (*capacity_)(const void*) = nullptr;
     char* (*data_)(void*) = nullptr;  // resize first: the pointer is to the vector's storage
     // v[k] becomes v[order[k]]: gathered into the store's spare vector of the type, which
@@ -144,7 +147,9 @@ class FieldRegistry {
   // the store does not declare or that is not optional.
   void enable(const std::string& name);
   bool enabled(const std::string& name) const;
-  // Enable the optional fields that `other` (a store of the same type) has enabled.
+  // Disable an optional field: its storage is released. Throws like enable().
+  void disable(const std::string& name);
+  // Enable and disable the optional fields as `other` (a store of the same type) has them.
   void enable_like(const FieldRegistry& other);
   bool enabled(const Entry& e) const { return !e.info().optional || enabled_[index_of(e)]; }
   // Whether the entry holds values here: enabled and not derived.
@@ -191,6 +196,9 @@ class FieldRegistry {
   void* at(const Entry& e) { return reinterpret_cast<char*>(this) + e.offset_; }
   const void* at(const Entry& e) const { return reinterpret_cast<const char*>(this) + e.offset_; }
   size_t index_of(const Entry& e) const { return size_t(&e - entries_.data()); }
+  // The entry of an optional field; throws std::invalid_argument for a name the store does not
+  // declare or that is not optional.
+  const Entry& optional_entry(const std::string& name) const;
 
   // permute's buffer for fields of type T (one per type, kept to avoid fresh pages every
   // reorder; after a reorder it holds a field's previous storage).
@@ -278,6 +286,7 @@ void FieldRegistry::add(std::vector<T>* field, FieldInfo info, T default_value) 
     });
   };
   e.reserve_ = [](void* f, size_t n) { reserve_large(static_cast<V*>(f), n); };
+  e.release_ = [](void* f) { V().swap(*static_cast<V*>(f)); };
   e.capacity_ = [](const void* f) { return static_cast<const V*>(f)->capacity(); };
   e.data_ = [](void* f) { return reinterpret_cast<char*>(static_cast<V*>(f)->data()); };
   e.columns_ = [](const void* f, const uint32_t* rows, size_t count, int n_out,

@@ -1,6 +1,19 @@
 #include "tear/particles/particles.h"
 
+#include <cstring>
+
 namespace tear {
+
+namespace {
+
+// Bit for bit (a -0 entry is not the identity's 0: fiber_of() must give the same bits).
+template <class M>
+bool is_identity(const M& frame) {
+  static const M identity = M::Identity();
+  return std::memcmp(&frame, &identity, sizeof(M)) == 0;
+}
+
+}  // namespace
 
 template <int Dim>
 void Particles<Dim>::push_back(const V& pos, const V& vel, const M& frame, Real m, Real v0,
@@ -9,7 +22,8 @@ void Particles<Dim>::push_back(const V& pos, const V& vel, const M& frame, Real 
   id[i] = uint32_t(i);
   x[i] = pos;
   v[i] = vel;
-  fiber[i] = frame;
+  if (!is_identity(frame)) enable("fiber");
+  if (!fiber.empty()) fiber[i] = frame;
   mass[i] = m;
   vol0[i] = v0;
   material[i] = mat;
@@ -18,10 +32,19 @@ void Particles<Dim>::push_back(const V& pos, const V& vel, const M& frame, Real 
 template <int Dim>
 void Particles<Dim>::world_fiber_of(const FieldRegistry& store, size_t i, double* out) {
   const auto& p = static_cast<const Particles<Dim>&>(store);
-  const V f = p.F[i] * p.fiber[i].col(0);
+  const M& D = p.fiber_of(i);
+  const V f = p.F[i] * D.col(0);
   const Real len = f.norm();
-  const V a = len > 0 ? V(f / len) : V(p.fiber[i].col(0));
+  const V a = len > 0 ? V(f / len) : V(D.col(0));
   for (int d = 0; d < 3; ++d) out[d] = d < Dim ? double(a[d]) : 0.0;
+}
+
+template <int Dim>
+bool Particles<Dim>::drop_identity_fibers() {
+  if (!enabled("fiber")) return true;
+  if (parallel_any(fiber.size(), [&](size_t i) { return !is_identity(fiber[i]); })) return false;
+  disable("fiber");
+  return true;
 }
 
 template <int Dim>

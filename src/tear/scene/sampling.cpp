@@ -311,6 +311,7 @@ Particles<Dim> sample_scene(const Scene& scene) {
     cell_samples<Dim>(scene, cell.object, cell.c,
                       [&](const Vec3d& p, uint64_t key, int s) { add(p, key, s, -1); });
   });
+  out.drop_identity_fibers();
   return out;
 }
 
