@@ -627,6 +627,12 @@ void print_info(std::ostream& out) {
 #else
       << " (portable: TEAR_NATIVE off)\n";
 #endif
+  out << "lto         "
+#ifdef TEAR_LTO_BUILD
+      << "on (TEAR_LTO)\n";
+#else
+      << "off\n";
+#endif
   out << "eigen       " << EIGEN_WORLD_VERSION << "." << EIGEN_MAJOR_VERSION << "."
       << EIGEN_MINOR_VERSION << "\n";
   out << "onetbb      " << threading_library_version() << "\n";
