@@ -24,88 +24,132 @@ T sum_groups(const MpmState<Dim>& state, Fn&& f, T zero = T{}) {
   for (size_t g = 1; g < state.groups.size(); ++g) total += group_sum(state.groups[g]);
   return total;
 }
+
+// Each figure's term for particle i, shared by the figures one at a time (for tests) and by
+// measure_state's one pass over the particles.
+template <int Dim>
+double mass_term(const Particles<Dim>& p, size_t i) {
+  return double(p.mass[i]);
+}
+
+template <int Dim>
+Vec3d momentum_term(const Particles<Dim>& p, size_t i) {
+  Vec3d m = Vec3d::Zero();
+  m.head<Dim>() = (p.mass[i] * p.v[i]).template cast<double>();
+  return m;
+}
+
+// About the origin, with APIC's affine part.
+template <int Dim>
+struct AngularMomentumTerm {
+  bool apic;
+  double k;  // dx^2 / 4: D = k I
+  explicit AngularMomentumTerm(const MpmSettings& settings)
+      : apic(settings.transfer == Transfer::Apic),
+        k(settings.dx * settings.dx / BSpline1D<kTransferOrder>::kInvD) {}
+  Vec3d operator()(const Particles<Dim>& p, size_t i) const {
+    Vec3d x = Vec3d::Zero(), v = Vec3d::Zero();
+    x.head<Dim>() = p.x[i].template cast<double>();
+    v.head<Dim>() = p.v[i].template cast<double>();
+    const double m = p.mass[i];
+    Vec3d L = m * x.cross(v);
+    if (apic) {
+      Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+      C.topLeftCorner<Dim, Dim>() = p.C[i].template cast<double>();
+      // sum_i w (x_i - x_p) x C (x_i - x_p) = k (C_32 - C_23, C_13 - C_31, C_21 - C_12)
+      L += m * k * Vec3d(C(2, 1) - C(1, 2), C(0, 2) - C(2, 0), C(1, 0) - C(0, 1));
+    }
+    return L;
+  }
+};
+
+template <int Dim>
+double kinetic_term(const Particles<Dim>& p, size_t i) {
+  return 0.5 * double(p.mass[i] * p.v[i].squaredNorm());
+}
+
+template <int Dim>
+double elastic_term(const MpmSettings& settings, const Particles<Dim>& p, size_t i) {
+  const DamageParams& dp = settings.material_damage[p.material[i]];
+  const Real g = dp.enabled ? degradation(p.damage[i], Real(dp.residual)) : Real(1);
+  return double(p.vol0[i] *
+                energy_density<Dim>(settings.materials[p.material[i]], p.F[i], p.fiber_of(i), g));
+}
+
+// measure_state's sums (and the largest damage), added figure by figure: each figure gets
+// the same additions in the same order as its own deterministic sum would make.
+struct FigureSums {
+  double mass = 0;
+  Vec3d momentum = Vec3d::Zero(), angular_momentum = Vec3d::Zero();
+  double kinetic = 0, elastic = 0, damage = 0, damaged = 0, max_damage = 0;
+  FigureSums& operator+=(const FigureSums& o) {
+    mass += o.mass;
+    momentum += o.momentum;
+    angular_momentum += o.angular_momentum;
+    kinetic += o.kinetic;
+    elastic += o.elastic;
+    damage += o.damage;
+    damaged += o.damaged;
+    max_damage = std::max(max_damage, o.max_damage);
+    return *this;
+  }
+};
+
 }  // namespace
 
 template <int Dim>
 double total_mass(const MpmState<Dim>& state) {
-  return sum_groups<Dim, double>(
-      state, [](const Particles<Dim>& p, size_t i) { return double(p.mass[i]); });
+  return sum_groups<Dim, double>(state, mass_term<Dim>);
 }
 
 template <int Dim>
 Vec3d total_momentum(const MpmState<Dim>& state) {
-  return sum_groups<Dim, Vec3d>(
-      state,
-      [](const Particles<Dim>& p, size_t i) {
-        Vec3d m = Vec3d::Zero();
-        m.head<Dim>() = (p.mass[i] * p.v[i]).template cast<double>();
-        return m;
-      },
-      Vec3d::Zero());
+  return sum_groups<Dim, Vec3d>(state, momentum_term<Dim>, Vec3d::Zero());
 }
 
 template <int Dim>
 Vec3d total_angular_momentum(const MpmSettings& settings, const MpmState<Dim>& state) {
-  const bool apic = settings.transfer == Transfer::Apic;
-  const double k = settings.dx * settings.dx / BSpline1D<kTransferOrder>::kInvD;  // D = (dx^2/4) I
-  return sum_groups<Dim, Vec3d>(
-      state,
-      [&](const Particles<Dim>& p, size_t i) {
-        Vec3d x = Vec3d::Zero(), v = Vec3d::Zero();
-        x.head<Dim>() = p.x[i].template cast<double>();
-        v.head<Dim>() = p.v[i].template cast<double>();
-        const double m = p.mass[i];
-        Vec3d L = m * x.cross(v);
-        if (apic) {
-          Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
-          C.topLeftCorner<Dim, Dim>() = p.C[i].template cast<double>();
-          // sum_i w (x_i - x_p) x C (x_i - x_p) = k (C_32 - C_23, C_13 - C_31, C_21 - C_12)
-          L += m * k * Vec3d(C(2, 1) - C(1, 2), C(0, 2) - C(2, 0), C(1, 0) - C(0, 1));
-        }
-        return L;
-      },
-      Vec3d::Zero());
+  return sum_groups<Dim, Vec3d>(state, AngularMomentumTerm<Dim>(settings), Vec3d::Zero());
 }
 
 template <int Dim>
 double kinetic_energy(const MpmState<Dim>& state) {
-  return sum_groups<Dim, double>(state, [](const Particles<Dim>& p, size_t i) {
-    return 0.5 * double(p.mass[i] * p.v[i].squaredNorm());
-  });
+  return sum_groups<Dim, double>(state, kinetic_term<Dim>);
 }
 
 template <int Dim>
 double elastic_energy(const MpmSettings& settings, const MpmState<Dim>& state) {
-  return sum_groups<Dim, double>(state, [&](const Particles<Dim>& p, size_t i) {
-    const DamageParams& dp = settings.material_damage[p.material[i]];
-    const Real g = dp.enabled ? degradation(p.damage[i], Real(dp.residual)) : Real(1);
-    return double(p.vol0[i] *
-                  energy_density<Dim>(settings.materials[p.material[i]], p.F[i], p.fiber_of(i), g));
-  });
+  return sum_groups<Dim, double>(
+      state, [&](const Particles<Dim>& p, size_t i) { return elastic_term(settings, p, i); });
 }
 
 template <int Dim>
 StateFigures measure_state(const MpmSettings& settings, const MpmState<Dim>& state) {
+  const AngularMomentumTerm<Dim> angular(settings);
+  const FigureSums sums = sum_groups<Dim, FigureSums>(state, [&](const Particles<Dim>& p,
+                                                                 size_t i) {
+    FigureSums t;
+    t.mass = mass_term(p, i);
+    t.momentum = momentum_term(p, i);
+    t.angular_momentum = angular(p, i);
+    t.kinetic = kinetic_term(p, i);
+    t.elastic = elastic_term(settings, p, i);
+    t.damage = double(p.damage[i]);
+    t.damaged = p.damage[i] > 0.5 ? 1.0 : 0.0;
+    t.max_damage = p.damage[i];
+    return t;
+  });
   StateFigures s;
   s.particles = state.num_particles();
-  s.mass = total_mass(state);
-  s.momentum = total_momentum(state);
-  s.angular_momentum = total_angular_momentum(settings, state);
-  s.kinetic_energy = kinetic_energy(state);
-  s.elastic_energy = elastic_energy(settings, state);
-  const size_t n = s.particles;
-  if (n) {
-    for (const Particles<Dim>& p : state.groups)
-      s.max_damage =
-          std::max(s.max_damage, parallel_max<double>(
-                                     p.size(), [&](size_t i) { return p.damage[i]; }, 0.0));
-    s.mean_damage = sum_groups<Dim, double>(state, [](const Particles<Dim>& p,
-                                                      size_t i) { return double(p.damage[i]); }) /
-                    n;
-    s.damaged_fraction =
-        sum_groups<Dim, double>(state, [](const Particles<Dim>& p,
-                                          size_t i) { return p.damage[i] > 0.5 ? 1.0 : 0.0; }) /
-        n;
+  s.mass = sums.mass;
+  s.momentum = sums.momentum;
+  s.angular_momentum = sums.angular_momentum;
+  s.kinetic_energy = sums.kinetic;
+  s.elastic_energy = sums.elastic;
+  if (const size_t n = s.particles) {
+    s.max_damage = sums.max_damage;
+    s.mean_damage = sums.damage / double(n);
+    s.damaged_fraction = sums.damaged / double(n);
   }
   return s;
 }

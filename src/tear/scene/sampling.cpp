@@ -145,37 +145,26 @@ Mat<Dim> fiber_frame_at(const FiberSpec& f, const Vec3d& p, uint64_t random_key)
 
 namespace {
 
-// The sampling cells of every object: fn(object, cell) for each cell of the object's bounds
-// inside the domain, objects in order, cells x fastest (the order that gives particle ids).
-template <int Dim, class Fn>
-void for_each_cell(const Scene& scene, Fn&& fn) {
+// The sampling cells of object `obj`: the inclusive cell range [c0, c1] overlapping its
+// shape's bounds and the domain; false where that is empty. Cells in order, x fastest, give
+// the particle ids.
+template <int Dim>
+bool cell_range(const Scene& scene, size_t obj, IVec<Dim>* c0, IVec<Dim>* c1) {
   const double dx = scene.dx;
-  IVec<Dim> ncell;
-  for (int d = 0; d < Dim; ++d)
-    ncell[d] = std::max(1, int(std::ceil((scene.domain_max[d] - scene.domain_min[d]) / dx - 1e-9)));
-  for (size_t obj = 0; obj < scene.objects.size(); ++obj) {
-    if (scene.objects[obj].points) continue;  // read, not sampled
-    Vec3d lo, hi;
-    scene.objects[obj].shape.bounds(&lo, &hi);
-    IVec<Dim> c0, c1;  // inclusive cell range overlapping the bounds and the domain
-    bool empty = false;
-    for (int d = 0; d < Dim; ++d) {
-      double a = std::floor((lo[d] - scene.domain_min[d]) / dx);
-      double b = std::ceil((hi[d] - scene.domain_min[d]) / dx) - 1;
-      // Clamped in double first: a shape far outside the domain must not overflow the int.
-      c0[d] = int(std::clamp(a, 0.0, double(ncell[d])));
-      c1[d] = int(std::clamp(b, -1.0, double(ncell[d] - 1)));
-      empty = empty || c0[d] > c1[d];
-    }
-    if (empty) continue;
-    IVec<Dim> c = c0;
-    for (;;) {
-      fn(obj, c);
-      int d = 0;
-      while (d < Dim && ++c[d] > c1[d]) c[d] = c0[d], ++d;
-      if (d == Dim) break;
-    }
+  Vec3d lo, hi;
+  scene.objects[obj].shape.bounds(&lo, &hi);
+  bool empty = false;
+  for (int d = 0; d < Dim; ++d) {
+    const int ncell =
+        std::max(1, int(std::ceil((scene.domain_max[d] - scene.domain_min[d]) / dx - 1e-9)));
+    double a = std::floor((lo[d] - scene.domain_min[d]) / dx);
+    double b = std::ceil((hi[d] - scene.domain_min[d]) / dx) - 1;
+    // Clamped in double first: a shape far outside the domain must not overflow the int.
+    (*c0)[d] = int(std::clamp(a, 0.0, double(ncell)));
+    (*c1)[d] = int(std::clamp(b, -1.0, double(ncell - 1)));
+    empty = empty || (*c0)[d] > (*c1)[d];
   }
+  return !empty;
 }
 
 // fn(p, key, s) for the sample points of one cell of an object that lie inside its shape and
@@ -224,23 +213,36 @@ Particles<Dim> sample_scene(const Scene& scene) {
     size_t first;  // index of the cell's first particle
   };
   // Objects in order; a "particles" object is one cell of all its points, in file order.
+  // A sampled object's cells that hold points are found row by row (the cells along x) in
+  // parallel, and kept in row order.
   std::vector<Cell> cells;
-  size_t n = 0, next_object = 0;
-  auto add_points_before = [&](size_t obj) {
-    for (; next_object < obj; ++next_object)
-      if (const auto& pts = scene.objects[next_object].points) {
-        cells.push_back({next_object, IVec<Dim>::Zero(), n});
-        n += pts->x.size();
+  size_t n = 0;
+  for (size_t obj = 0; obj < scene.objects.size(); ++obj) {
+    if (const auto& pts = scene.objects[obj].points) {
+      cells.push_back({obj, IVec<Dim>::Zero(), n});
+      n += pts->x.size();
+      continue;
+    }
+    IVec<Dim> c0, c1;
+    if (!cell_range<Dim>(scene, obj, &c0, &c1)) continue;
+    size_t rows = 1;
+    for (int d = 1; d < Dim; ++d) rows *= size_t(c1[d] - c0[d] + 1);
+    std::vector<std::vector<std::pair<IVec<Dim>, size_t>>> found(rows);
+    parallel_for(rows, [&](size_t r) {
+      IVec<Dim> c = c0;
+      for (int d = 1, rest = int(r); d < Dim; ++d) {
+        const int span = c1[d] - c0[d] + 1;
+        c[d] = c0[d] + rest % span, rest /= span;
       }
-  };
-  for_each_cell<Dim>(scene, [&](size_t obj, const IVec<Dim>& c) {
-    add_points_before(obj);
-    size_t count = 0;
-    cell_samples<Dim>(scene, obj, c, [&](const Vec3d&, uint64_t, int) { ++count; });
-    if (count) cells.push_back({obj, c, n});
-    n += count;
-  });
-  add_points_before(scene.objects.size());
+      for (c[0] = c0[0]; c[0] <= c1[0]; ++c[0]) {
+        size_t count = 0;
+        cell_samples<Dim>(scene, obj, c, [&](const Vec3d&, uint64_t, int) { ++count; });
+        if (count) found[r].push_back({c, count});
+      }
+    });
+    for (const auto& row : found)
+      for (const auto& [c, count] : row) cells.push_back({obj, c, n}), n += count;
+  }
   // Flow fibers: each such object's potential flow, solved once before the particles.
   std::vector<std::unique_ptr<FlowField>> flows(scene.objects.size());
   for (size_t k = 0; k < scene.objects.size(); ++k) {
