@@ -54,15 +54,18 @@ std::map<std::string, int> module_rank() {
   return rank;
 }
 
-// (file, included module) for every #include "tear/<module>/..." in src/tear/<from>/.
+// (file, included module) for every #include "tear/<module>/..." in src/tear/<from>/ and its
+// subfolders (surface/openvdb/: the mesher's module).
 std::vector<std::pair<std::string, std::string>> includes_of(const std::string& from) {
   std::vector<std::pair<std::string, std::string>> out;
   const std::regex inc(R"(#include\s+"tear/([a-z_]+)/)");
-  for (const auto& f : fs::directory_iterator(fs::path(source_dir()) / "src/tear" / from)) {
+  const fs::path folder = fs::path(source_dir()) / "src/tear" / from;
+  for (const auto& f : fs::recursive_directory_iterator(folder)) {
+    if (!f.is_regular_file()) continue;
     const std::string text = read(f.path());
     for (auto it = std::sregex_iterator(text.begin(), text.end(), inc);
          it != std::sregex_iterator(); ++it)
-      out.emplace_back(f.path().filename().string(), (*it)[1]);
+      out.emplace_back(fs::relative(f.path(), folder).string(), (*it)[1]);
   }
   return out;
 }

@@ -2,6 +2,7 @@
 // progress and summary, bad input.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <filesystem>
 
 #include "../surface/mesh_check.h"
@@ -101,6 +102,35 @@ TEST_F(MeshCli, BadInputIsOneLineAndANonZeroExit) {
   EXPECT_EQ(tear("mesh " + run + " --voxel 0.9"), 1);
   EXPECT_NE(err_.find("voxel"), std::string::npos) << err_;
   EXPECT_FALSE(fs::exists(run + "/meshes"));  // nothing written
+}
+
+// The OpenVDB half of the mesher is a module loaded by `mesh` (and `info`, surface renders)
+// only: without it a run works, `info` says why it is missing, and `mesh` fails with one line
+// naming the file it tried, writing nothing.
+TEST_F(MeshCli, WithoutTheOpenVdbModuleOnlyMeshingFails) {
+  const std::string nowhere = path("no_module");
+  fs::create_directories(nowhere);
+  ASSERT_EQ(setenv("TEAR_MODULE_DIR", nowhere.c_str(), 1), 0);
+  struct Unset {
+    ~Unset() { unsetenv("TEAR_MODULE_DIR"); }
+  } unset;
+  const std::string run = run_folder();
+  EXPECT_TRUE(fs::exists(run + "/frames/00004.ply"));
+  EXPECT_EQ(tear("info"), 0) << err_;
+  EXPECT_NE(out_.find("openvdb     not loaded: the surface mesher needs its OpenVDB module "
+                      "libtear_level_set.so"),
+            std::string::npos)
+      << out_;
+  EXPECT_EQ(tear("mesh " + run), 1);
+  EXPECT_NE(err_.find(nowhere + "/libtear_level_set.so: no such file"), std::string::npos)
+      << err_;
+  EXPECT_NE(err_.find(": the surface mesher needs its OpenVDB module"), std::string::npos)
+      << err_;
+  EXPECT_FALSE(fs::exists(run + "/meshes/00000.obj"));
+  unsetenv("TEAR_MODULE_DIR");
+  EXPECT_EQ(tear("info"), 0) << err_;
+  EXPECT_NE(out_.find("\nopenvdb     "), std::string::npos) << out_;
+  EXPECT_EQ(out_.find("not loaded"), std::string::npos) << out_;
 }
 
 }  // namespace

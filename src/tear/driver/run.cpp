@@ -639,7 +639,14 @@ void print_info(std::ostream& out) {
   out << "threads     " << available_threads() << " available\n";
   out << "embree      " << embree_version() << "\n";
   out << "libpng      " << libpng_version() << "\n";
-  out << "openvdb     " << openvdb_version() << "\n";
+  // The mesher's OpenVDB module is loaded here (tear mesh and surface renders load it too).
+  std::string openvdb;
+  try {
+    openvdb = openvdb_version();
+  } catch (const std::exception& e) {
+    openvdb = std::string("not loaded: ") + e.what();
+  }
+  out << "openvdb     " << openvdb << "\n";
   const std::string ffmpeg = ffmpeg_path();
   out << "ffmpeg      " << (ffmpeg.empty() ? "not found on PATH (no preview.mp4)" : ffmpeg) << "\n";
 }

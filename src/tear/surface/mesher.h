@@ -2,7 +2,7 @@
 // iso-surface), with cracks left open: particles damaged past a threshold do not join the
 // two sides of a crack. What `tear mesh` and the renderer's surface mode use; also implicit
 // solids to meshes (the shipped meshes of examples/meshes/). Knows io/'s point tables and
-// meshes, nothing of scenes or the simulation; OpenVDB stays inside mesher.cpp.
+// meshes, nothing of scenes or the simulation; OpenVDB stays inside its module (level_set.h).
 #pragma once
 
 #include "tear/io/mesh_io.h"
@@ -47,7 +47,9 @@ TriMesh mesh_implicit(const std::function<double(const Eigen::Vector3d&)>& sdf,
 // Throws std::invalid_argument naming the option when mesh_particles would reject `options`.
 void check_mesh_options(const MeshOptions& options);
 
-// The OpenVDB version this build was compiled against (`tear info`).
+// The OpenVDB version the mesher's module was compiled against (`tear info`). The module
+// (level_set.h) is loaded the first time this, mesh_particles or mesh_implicit is called;
+// each throws std::runtime_error saying where it looked when it cannot be loaded.
 const char* openvdb_version();
 
 // Median distance from a point to its nearest neighbour (coincident points left out): the
