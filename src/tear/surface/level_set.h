@@ -19,7 +19,7 @@ struct SpheresSurface {
   std::vector<Eigen::Vector3d> carved;  // centres of the holes of radius `carve`
   double radius = 0, carve = 0, voxel = 0, inset = 0;
   int smooth = 0;            // mean-value filter passes
-  float half_width = 3;      // narrow band half width, voxels
+  float half_width = 0;      // narrow band half width, voxels
   bool slab = false;         // cut by the box [slab_lo, slab_hi] (2D frames)
   Eigen::Vector3d slab_lo = Eigen::Vector3d::Zero(), slab_hi = Eigen::Vector3d::Zero();
 };
@@ -32,6 +32,11 @@ struct SampledSurface {
   double voxel = 0, adaptivity = 0;
   float band = 0;
   std::vector<float> value;
+  // The integer coordinates of value[i]'s voxel.
+  Eigen::Vector3i voxel_of(size_t i) const {
+    const size_t nx = size_t(n.x()), ny = size_t(n.y());
+    return lo + Eigen::Vector3i(int(i % nx), int(i / nx % ny), int(i / nx / ny));
+  }
 };
 
 // The module's functions; `abi` is the kLevelSetAbi it was built with.

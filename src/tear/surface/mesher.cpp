@@ -140,18 +140,14 @@ TriMesh mesh_implicit(const std::function<double(const Eigen::Vector3d&)>& sdf,
                           int(std::ceil(hi.z() / voxel)));
   s.lo = a;
   s.n = b - a + Eigen::Vector3i::Ones();
-  const size_t nx = size_t(s.n.x()), ny = size_t(s.n.y());
-  const size_t count = nx * ny * size_t(s.n.z());
-  auto coord = [&](size_t i) {
-    return Eigen::Vector3i(a.x() + int(i % nx), a.y() + int(i / nx % ny), a.z() + int(i / nx / ny));
-  };
+  const size_t count = size_t(s.n.x()) * size_t(s.n.y()) * size_t(s.n.z());
   s.value.resize(count);
   parallel_for(count, [&](size_t i) {
-    const Eigen::Vector3i c = coord(i);
+    const Eigen::Vector3i c = s.voxel_of(i);
     s.value[i] = float(sdf(voxel * Eigen::Vector3d(c.x(), c.y(), c.z())));
   });
   for (size_t i = 0; i < count; ++i) {
-    const Eigen::Vector3i c = coord(i);
+    const Eigen::Vector3i c = s.voxel_of(i);
     const bool side = c.x() == a.x() || c.x() == b.x() || c.y() == a.y() || c.y() == b.y() ||
                       c.z() == a.z() || c.z() == b.z();
     if (side && !(s.value[i] > 0))

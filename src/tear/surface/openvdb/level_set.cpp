@@ -114,10 +114,9 @@ TriMesh sampled_surface(const SampledSurface& s) {
   grid->setTransform(openvdb::math::Transform::createLinearTransform(s.voxel));
   grid->setGridClass(openvdb::GRID_LEVEL_SET);
   openvdb::FloatGrid::Accessor acc = grid->getAccessor();
-  const size_t nx = size_t(s.n.x()), ny = size_t(s.n.y());
   for (size_t i = 0; i < s.value.size(); ++i) {
-    const openvdb::Coord c(s.lo.x() + int(i % nx), s.lo.y() + int(i / nx % ny),
-                           s.lo.z() + int(i / nx / ny));
+    const Eigen::Vector3i at = s.voxel_of(i);
+    const openvdb::Coord c(at.x(), at.y(), at.z());
     const float v = s.value[i];
     if (std::abs(v) < s.band)
       acc.setValue(c, v);
