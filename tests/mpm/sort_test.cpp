@@ -43,9 +43,8 @@ void expect_bins_of_positions(const MpmSettings& settings, const MpmState<Dim>& 
 // other particle), each particle's mass times mass(i).
 template <int Dim, class Mass>
 MpmSim<Dim> spinning_groups(Real drift, Real spin, Mass mass) {
-  const Scene s =
-      basic_scene(Dim, 0.05, Vec3d::Zero(), Vec3d::Constant(2.0), Model::FixedCorotated, 1e3, 0.3,
-                  1, 3);
+  const Scene s = basic_scene(Dim, 0.05, Vec3d::Zero(), Vec3d::Constant(2.0), Model::FixedCorotated,
+                              1e3, 0.3, 1, 3);
   const Vec<Dim> lo = Vec<Dim>::Constant(Real(0.6)), hi = Vec<Dim>::Constant(Real(1.1));
   const Vec<Dim> c = (lo + hi) / 2;
   const Particles<Dim> all = lattice_block<Dim>(s, lo, hi, 2, [&](const Vec<Dim>& x) {
@@ -87,6 +86,44 @@ void check_sort_uses_g2p_slots() {
   state.home_slots_step = -1;
   sort_particles(&state);
   expect_bins_of_positions(sim.settings(), state);
+}
+
+// A slow body: most steps no particle changes home block, and the sort keeps the last bins
+// (SparseGrid::bin's shortcut); the bins must still be those of the positions, and the node
+// fields P2G adds into zero.
+template <int Dim>
+void check_sort_keeps_bins_where_no_particle_moved() {
+  MpmSim<Dim> sim = spinning_groups<Dim>(Real(1), Real(0.5), [](size_t) { return Real(1); });
+  const double dt = sim.estimate_dt();
+  int kept = 0, changed = 0;
+  for (int i = 0; i < 100; ++i) {
+    sim.step(dt);
+    MpmState<Dim>& state = sim.state();
+    ASSERT_EQ(state.home_slots_step, state.steps);
+    bool same = true;
+    for (size_t g = 0; g < state.groups.size(); ++g)
+      same = same && state.home_slots[g] == state.grid.bins(g).particle_slot;
+    (same ? kept : changed) += 1;
+    SparseGrid<Dim>& grid = state.grid;
+    for (size_t n = 0; n < grid.num_active_nodes(); ++n)  // what the step left there
+      grid.mass[n] = 1, grid.velocity[n].setOnes(), grid.velocity_old[n].setOnes();
+    sort_particles(&state);
+    expect_bins_of_positions(sim.settings(), state);
+    for (size_t n = 0; n < grid.num_active_nodes(); ++n) {
+      ASSERT_EQ(grid.mass[n], 0) << "step " << i << " node " << n;
+      ASSERT_TRUE(grid.velocity[n].isZero(0) && grid.velocity_old[n].isZero(0)) << n;
+    }
+    if (::testing::Test::HasFailure()) return;
+  }
+  EXPECT_GT(kept, 10);    // the shortcut was taken
+  EXPECT_GT(changed, 5) << kept;  // and the full binning too
+}
+
+TEST(Sort, BinsKeptWhereNoParticleMovedEqualABinningOfThePositions2D) {
+  check_sort_keeps_bins_where_no_particle_moved<2>();
+}
+TEST(Sort, BinsKeptWhereNoParticleMovedEqualABinningOfThePositions3D) {
+  check_sort_keeps_bins_where_no_particle_moved<3>();
 }
 
 // G2P's figures of the particles it moved (MpmState::moved) are what a pass over the particles

@@ -25,6 +25,7 @@ void SparseGrid<Dim>::setup(const Vec3d& domain_min, const Vec3d& domain_max, do
   table_.assign(total, -1);
   counts_.assign(total, 0);
   block_slot_.clear();
+  binned_ = false;
 }
 
 template <int Dim>
@@ -40,6 +41,15 @@ IVec<Dim> SparseGrid<Dim>::slot_coord(int slot) const {
 template <int Dim>
 void SparseGrid<Dim>::bin(const std::vector<const std::vector<Vec<Dim>>*>& groups,
                           std::vector<std::vector<int>>* slots) {
+  // Every particle in the home slot it had at the last bin(): the bins and active blocks are
+  // what they were (they follow from the slots alone, in particle order); only the node fields
+  // are zeroed. A body at rest or moving less than a block does this most steps.
+  if (slots && binned_ && bins_.size() == groups.size() && same_slots(*slots)) {
+    for (size_t g = 0; g < groups.size(); ++g) bins_[g].particle_slot.swap((*slots)[g]);
+    zero_momentum_fields();
+    return;
+  }
+  binned_ = false;
   bins_.resize(groups.size());
   // Reset the previous activation.
   for (int s : block_slot_) table_[s] = -1;
@@ -149,6 +159,19 @@ void SparseGrid<Dim>::bin(const std::vector<const std::vector<Vec<Dim>>*>& group
     mass.resize(nodes), velocity.resize(nodes), velocity_old.resize(nodes);
   }
   zero_momentum_fields();
+  binned_ = true;
+}
+
+template <int Dim>
+bool SparseGrid<Dim>::same_slots(const std::vector<std::vector<int>>& slots) const {
+  for (size_t g = 0; g < slots.size(); ++g) {
+    const std::vector<int>& now = slots[g];
+    const std::vector<int>& then = bins_[g].particle_slot;
+    if (now.size() != then.size() ||
+        parallel_any(now.size(), [&](size_t p) { return now[p] != then[p]; }))
+      return false;
+  }
+  return true;
 }
 
 template <int Dim>

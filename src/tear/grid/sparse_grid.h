@@ -32,8 +32,8 @@ struct ParticleBins {
     int slot;             // slot of the home block
     uint32_t begin, end;  // range in order
   };
-  std::vector<int> particle_slot;  // home slot of each particle at binning
-  std::vector<uint32_t> order;     // particle indices by home block; ascending within a block
+  std::vector<int> particle_slot;      // home slot of each particle at binning
+  std::vector<uint32_t> order;         // particle indices by home block; ascending within a block
   std::vector<HomeBlock> home_blocks;  // in slot order
   std::vector<int> colours[kColours];  // indices into home_blocks, by colour
 };
@@ -140,14 +140,17 @@ class SparseGrid {
     return s;
   }
   IVec<Dim> slot_coord(int slot) const;
+  // Whether slots[g] equals bins(g).particle_slot for every group g.
+  bool same_slots(const std::vector<std::vector<int>>& slots) const;
 
   double dx_ = 1;
   Vec<Dim> origin_ = Vec<Dim>::Zero();
   IVec<Dim> n_nodes_ = IVec<Dim>::Zero();
   IVec<Dim> n_slots_ = IVec<Dim>::Zero();
-  std::vector<int> table_;        // slot -> block id or -1
-  std::vector<int> block_slot_;   // block id -> slot
-  std::vector<uint32_t> counts_;  // per slot scratch of bin() (0 between calls)
+  std::vector<int> table_;               // slot -> block id or -1
+  std::vector<int> block_slot_;          // block id -> slot
+  std::vector<uint32_t> counts_;         // per slot scratch of bin() (0 between calls)
+  bool binned_ = false;                  // bins_ and the active blocks hold a finished bin()
   std::vector<ParticleBins<Dim>> bins_;  // per group
 };
 
