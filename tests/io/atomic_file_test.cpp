@@ -1,9 +1,14 @@
 #include "tear/io/atomic_file.h"
 
+#include "tear/exec/threads.h"
+
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
+#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -67,6 +72,68 @@ TEST(AtomicFile, WritesArbitraryBytesExactly) {
   write_file_atomic(dir.file("empty"), "");
   EXPECT_EQ(read_file(dir.file("empty")), "");
   EXPECT_EQ(dir.entries(), (std::set<std::string>{"empty", "frame.ply"}));
+}
+
+// Pieces of every kind (copied and referenced, empty, one byte, across the 1 MiB copies of a
+// mapped write, ending off any boundary) make the same file mapped and streamed.
+ByteWriter pieces_of(const std::string& bytes, std::deque<std::string>* keep) {
+  ByteWriter w;
+  size_t at = 0;
+  const size_t sizes[] = {1, 0, 7, (1 << 20) + 3, 4096, 12345, (2 << 20) - 1, 1};
+  for (size_t k = 0; at < bytes.size(); ++k) {
+    const size_t n = std::min(sizes[k % 8], bytes.size() - at);
+    if (k % 2 == 0) {
+      w.put_bytes(bytes.data() + at, n);
+    } else {
+      keep->push_back(bytes.substr(at, n));
+      w.put_view(keep->back().data(), n);
+    }
+    at += n;
+  }
+  return w;
+}
+
+TEST(AtomicFile, LargeFilesAreMappedWithTheSameBytes) {
+  ScratchDir dir;
+  if (!writes_mapped_in(dir.file("")))
+    GTEST_SKIP() << "the temp folder's file system is not one that tear writes mapped";
+  std::mt19937 rng(11);
+  for (const int threads : {2, 1})
+    for (const size_t size :
+         {kMappedWriteBytes - 1, kMappedWriteBytes, 3 * kMappedWriteBytes + 5}) {
+      const ThreadLimit limit(threads);
+      std::string bytes(size, '\0');
+      for (char& c : bytes) c = char(rng() & 0xFF);
+      std::deque<std::string> keep;  // the views' bytes, which stay where they are
+      const ByteWriter w = pieces_of(bytes, &keep);
+      ASSERT_EQ(w.size(), size);
+      const std::string path = dir.file("latest.bin");
+      std::ofstream(path) << std::string(size + 100, 'x');  // an older, longer file is replaced
+      const WriteWay way = write_file_atomic(path, w);
+      const bool mapped = size >= kMappedWriteBytes && allowed_threads() > 1;
+      EXPECT_EQ(way, mapped ? WriteWay::mapped : WriteWay::stream) << size << " " << threads;
+      EXPECT_EQ(fs::file_size(path), size);
+      EXPECT_TRUE(read_file(path) == bytes) << size;
+      EXPECT_EQ(dir.entries(), std::set<std::string>{"latest.bin"});
+    }
+}
+
+// A full disk shows at the reservation of a mapped file: the old file stays, no temporary.
+TEST(AtomicFile, MappedWriteOnAFullDiskKeepsTheOldFile) {
+  ScratchDir dir;
+  if (!writes_mapped_in(dir.file("")))
+    GTEST_SKIP() << "the temp folder's file system is not one that tear writes mapped";
+  const std::string path = dir.file("00003.ply");
+  write_file_atomic(path, "old");
+  const ThreadLimit limit(2);
+  if (allowed_threads() < 2) GTEST_SKIP() << "one core: files are not written mapped";
+  ASSERT_EQ(::setenv("TEAR_TEST_FAIL_WRITE", "00003.ply", 1), 0);
+  const std::string message =
+      error_of([&] { write_file_atomic(path, std::string(kMappedWriteBytes, 'y')); });
+  ::unsetenv("TEAR_TEST_FAIL_WRITE");
+  EXPECT_TRUE(contains(message, path + ": cannot write: " + std::strerror(ENOSPC))) << message;
+  EXPECT_EQ(read_file(path), "old");
+  EXPECT_EQ(dir.entries(), std::set<std::string>{"00003.ply"});
 }
 
 TEST(AtomicFile, ReplacesLongerContentAndLeavesOnlyTheTarget) {
@@ -138,12 +205,12 @@ TEST(AtomicFile, ReadFileRefusesDevices) {
 // A run killed mid-write leaves ".NAME.tmp.PID"; only those are removed.
 TEST(AtomicFile, RemoveStaleTemporariesRemovesOnlyOurs) {
   ScratchDir dir;
-  for (const char* name : {".00003.ply.tmp.4242", ".stats.jsonl.tmp.7", "00003.ply",
-                           ".hidden", ".x.tmp.", ".y.tmp.12a", "z.tmp.5"})
+  for (const char* name : {".00003.ply.tmp.4242", ".stats.jsonl.tmp.7", "00003.ply", ".hidden",
+                           ".x.tmp.", ".y.tmp.12a", "z.tmp.5"})
     write_file_atomic(dir.file(name), "x");
   EXPECT_EQ(remove_stale_temporaries(dir.file("")), 2);
-  EXPECT_EQ(dir.entries(), (std::set<std::string>{"00003.ply", ".hidden", ".x.tmp.", ".y.tmp.12a",
-                                         "z.tmp.5"}));
+  EXPECT_EQ(dir.entries(),
+            (std::set<std::string>{"00003.ply", ".hidden", ".x.tmp.", ".y.tmp.12a", "z.tmp.5"}));
   EXPECT_EQ(remove_stale_temporaries(dir.file("absent")), 0);
 }
 

@@ -4,6 +4,8 @@
 #include <tbb/info.h>
 #include <tbb/version.h>
 
+#include <algorithm>
+
 namespace tear {
 
 struct ThreadLimit::Impl {
@@ -19,6 +21,12 @@ ThreadLimit::ThreadLimit(int threads) {
 ThreadLimit::~ThreadLimit() = default;
 
 int available_threads() { return tbb::info::default_concurrency(); }
+
+int allowed_threads() {
+  return int(
+      std::min(size_t(available_threads()),
+               tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)));
+}
 
 std::string threading_library_version() {
   return std::to_string(TBB_VERSION_MAJOR) + "." + std::to_string(TBB_VERSION_MINOR);

@@ -22,6 +22,8 @@ class ThreadLimit {
 
 // Threads a parallel loop can use by default on this machine.
 int available_threads();
+// Threads a parallel loop can use now: available_threads() or the cap of a ThreadLimit alive.
+int allowed_threads();
 // The version of oneTBB, the threading library behind exec/ ("2021.8"; tear info).
 std::string threading_library_version();
 
