@@ -4,16 +4,10 @@
 
 namespace tear {
 
-namespace {
-
-// Bit for bit (a -0 entry is not the identity's 0: fiber_of() must give the same bits).
-template <class M>
-bool is_identity(const M& frame) {
-  static const M identity = M::Identity();
-  return std::memcmp(&frame, &identity, sizeof(M)) == 0;
+template <int Dim>
+bool Particles<Dim>::is_identity(const M& frame) {
+  return std::memcmp(&frame, &kIdentity, sizeof(M)) == 0;
 }
-
-}  // namespace
 
 template <int Dim>
 void Particles<Dim>::push_back(const V& pos, const V& vel, const M& frame, Real m, Real v0,

@@ -92,6 +92,8 @@ struct Particles : FieldRegistry {
 
  private:
   inline static const M kIdentity = M::Identity();
+  // Bit for bit (a -0 entry is not the identity's 0: fiber_of() must give the same bits).
+  static bool is_identity(const M& frame);
   static void world_fiber_of(const FieldRegistry& store, size_t i, double* out);
   static void driving_force_of(const FieldRegistry& store, size_t i, double* out);
 };
