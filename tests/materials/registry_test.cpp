@@ -48,7 +48,7 @@ TEST(Registry, NameListsFollowTheRegistryOrderAndTraits) {
   std::string all;
   for (int i = 0; i < Models::kCount; ++i) all += std::string(i ? ", " : "") + model_name(Model(i));
   EXPECT_EQ(model_names(), all);
-  EXPECT_EQ(model_names(&ModelTraits::has_fiber_stiffness), "qr_aniso");
+  EXPECT_EQ(model_names(&ModelTraits::has_fiber_stiffness), "qr_aniso, surface_qr");
   EXPECT_EQ(model_names(&ModelTraits::degraded_by_damage), "qr_aniso");
 }
 

@@ -12,6 +12,7 @@ struct FixedCorotated {
   static constexpr const char* kName = "fixed_corotated";
   static constexpr bool kHasFiberStiffness = false;
   static constexpr bool kDegradedByDamage = false;
+  static constexpr int kCodimension = 0;
   static constexpr bool kClosedFormKirchhoff = false;
 
   // mu, lambda are the Lame parameters of (E, nu) as make_material sets them.

@@ -26,9 +26,35 @@ MaterialParams make_material(Model model, Real E, Real nu, Real rho, Real fiber_
 }
 
 Real wave_speed(const MaterialParams& m) {
-  const Real modulus = lame_lambda(m.E, m.nu) + 2 * lame_mu(m.E, m.nu) + std::max(m.kx, m.ky);
+  const int codimension = model_codimension(m.model);
+  if (codimension == 0) {
+    const Real modulus = lame_lambda(m.E, m.nu) + 2 * lame_mu(m.E, m.nu) + std::max(m.kx, m.ky);
+    return std::sqrt(modulus / m.rho);
+  }
+  const Real along = (codimension == 2 ? m.E / (1 - m.nu * m.nu) : m.E) + std::max(m.kx, m.ky);
+  const Real modulus = std::max({along, m.shear_stiffness, 2 * m.normal_stiffness});
   return std::sqrt(modulus / m.rho);
 }
+
+int model_codimension(Model m) {
+  const int i = int(m);
+  return i >= 0 && i < Models::kCount ? kModelTraits[i].codimension : 0;
+}
+
+template <int Dim>
+ContactState codim_return_map(const MaterialParams& m, Mat<Dim>* F) {
+  return visit_model(m.model, [&](auto M) {
+    if constexpr (decltype(M)::kCodimension > 0) {
+      return M.template return_map<Dim>(m, F);
+    } else {
+      TEAR_ASSERT(!"codim_return_map of a volumetric model");
+      return ContactState::Apart;
+    }
+  });
+}
+
+template ContactState codim_return_map<2>(const MaterialParams&, Mat<2>*);
+template ContactState codim_return_map<3>(const MaterialParams&, Mat<3>*);
 
 const char* model_name(Model m) {
   const int i = int(m);

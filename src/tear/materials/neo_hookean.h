@@ -13,6 +13,7 @@ struct NeoHookean {
   static constexpr const char* kName = "neo_hookean";
   static constexpr bool kHasFiberStiffness = false;
   static constexpr bool kDegradedByDamage = false;
+  static constexpr int kCodimension = 0;
   static constexpr bool kClosedFormKirchhoff = true;
 
   // mu, lambda are the Lame parameters of (E, nu) as make_material sets them.

@@ -16,6 +16,7 @@ struct QrAniso {
   static constexpr const char* kName = "qr_aniso";
   static constexpr bool kHasFiberStiffness = true;  // uses kx (and ky in 3D)
   static constexpr bool kDegradedByDamage = true;   // uses g
+  static constexpr int kCodimension = 0;
   static constexpr bool kClosedFormKirchhoff = false;
 
   // lambda = lambda_Lame + mu (EQUATIONS.md §2 small-strain note); kx, ky = fiber scales * mu.

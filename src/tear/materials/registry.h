@@ -8,8 +8,10 @@
 
 #include "tear/materials/fixed_corotated.h"
 #include "tear/materials/neo_hookean.h"
+#include "tear/materials/curve_qr.h"
 #include "tear/materials/qr_aniso.h"
 #include "tear/materials/stvk_hencky.h"
+#include "tear/materials/surface_qr.h"
 
 namespace tear {
 
@@ -19,6 +21,9 @@ namespace tear {
 //   kDegradedByDamage       uses g (the scene refuses a damage block otherwise)
 //   kClosedFormKirchhoff    has kirchhoff_stress<Dim>(m, F, D, g) = P F^T in closed form
 //                           (else material.cpp forms first_piola times F^T)
+//   kCodimension            0 for a solid; 1 (curve) or 2 (surface) for a codimensional model
+//                           of Jiang et al. 2017, which works on an element's F (D unused) and
+//                           has return_map<Dim>(m, F*) (its friction)
 //   map_parameters(MaterialParams*, fiber_scale1, fiber_scale2), run after make_material has
 //   set the Lame parameters; energy<Dim>(m, F, D, g), first_piola<Dim>(m, F, D, g) and
 //   stress_differential<Dim>(m, F, D, dF, g) (analytic: the implicit integrator's Newton steps
@@ -30,7 +35,7 @@ struct ModelList {
   static constexpr int kCount = sizeof...(Ms);
 };
 
-using Models = ModelList<QrAniso, FixedCorotated, NeoHookean, StvkHencky>;
+using Models = ModelList<QrAniso, FixedCorotated, NeoHookean, StvkHencky, SurfaceQr, CurveQr>;
 
 namespace registry_detail {
 
@@ -70,6 +75,7 @@ struct ModelTraits {
   Model model;
   const char* name;
   bool has_fiber_stiffness, degraded_by_damage, closed_form_kirchhoff;
+  int codimension;
 };
 
 namespace registry_detail {
@@ -77,7 +83,7 @@ namespace registry_detail {
 template <class... Ms>
 constexpr std::array<ModelTraits, sizeof...(Ms)> traits_of(ModelList<Ms...>) {
   return {{ModelTraits{Ms::kModel, Ms::kName, Ms::kHasFiberStiffness, Ms::kDegradedByDamage,
-                       Ms::kClosedFormKirchhoff}...}};
+                       Ms::kClosedFormKirchhoff, Ms::kCodimension}...}};
 }
 
 }  // namespace registry_detail

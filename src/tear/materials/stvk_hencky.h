@@ -13,6 +13,7 @@ struct StvkHencky {
   static constexpr const char* kName = "stvk_hencky";
   static constexpr bool kHasFiberStiffness = false;
   static constexpr bool kDegradedByDamage = false;
+  static constexpr int kCodimension = 0;
   static constexpr bool kClosedFormKirchhoff = false;
 
   // mu, lambda are the Lame parameters of (E, nu) as make_material sets them.
