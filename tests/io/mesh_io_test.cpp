@@ -111,7 +111,7 @@ TEST(MeshIo, PlyErrorsNameTheReason) {
   EXPECT_EQ(error_of(decode_mesh_ply,
                      "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n"
                      "property float y\nproperty float z\nend_header\n0 0 0\n"),
-            "bad PLY mesh: no face element");
+            "bad PLY mesh: no face element (nor an edge element)");
   EXPECT_EQ(error_of(decode_mesh_ply,
                      "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n"
                      "property float y\nelement face 0\nproperty list uchar int vertex_indices\n"

@@ -148,9 +148,16 @@ TriMesh decode_obj(const std::string& text) {
         obj_fail(number, "face with " + std::to_string(corners.size()) + " corners");
       for (size_t k = 1; k + 1 < corners.size(); ++k)
         mesh.triangles.push_back({corners[0], corners[k], corners[k + 1]});
+    } else if (word == "l") {
+      corners.clear();
+      for (std::string c; ls >> c;) corners.push_back(obj_corner(c, mesh.vertices.size(), number));
+      if (corners.size() < 2)
+        obj_fail(number, "line with " + std::to_string(corners.size()) + " vertex");
+      for (size_t k = 0; k + 1 < corners.size(); ++k)
+        mesh.segments.push_back({corners[k], corners[k + 1]});
     } else if (word.empty() || word[0] == '#' || word == "vn" || word == "vt" || word == "vp" ||
                word == "o" || word == "g" || word == "s" || word == "usemtl" || word == "mtllib" ||
-               word == "l" || word == "p") {
+               word == "p") {
       continue;
     } else {
       obj_fail(number, "unknown statement '" + word + "'");
@@ -159,9 +166,11 @@ TriMesh decode_obj(const std::string& text) {
   return mesh;
 }
 
+constexpr const char* kEdgeEnds[] = {"vertex1", "vertex2"};
+
 TriMesh decode_mesh_ply(const std::string& bytes) {
   const PlyHeader h = parse_ply_header(bytes, kPlyContext);
-  bool seen_vertex = false, seen_face = false;
+  bool seen_vertex = false, seen_face = false, seen_edge = false, ignored_edges = false;
   for (const PlyElement& e : h.elements) {
     if (e.name == "vertex") {
       if (seen_vertex) ply_fail("two vertex elements");
@@ -177,10 +186,21 @@ TriMesh decode_mesh_ply(const std::string& bytes) {
             return p.list && (p.name == "vertex_indices" || p.name == "vertex_index");
           }))
         ply_fail("face element has no list property 'vertex_indices'");
+    } else if (e.name == "edge") {
+      if (seen_edge) ply_fail("two edge elements");
+      // Segments where the element names its ends (vertex1, vertex2); other edge elements
+      // (a mesh's own bookkeeping) are skipped like any other element.
+      seen_edge = std::all_of(std::begin(kEdgeEnds), std::end(kEdgeEnds), [&](const char* end) {
+        return std::any_of(e.properties.begin(), e.properties.end(),
+                           [&](const PlyProperty& p) { return p.name == end && !p.list; });
+      });
+      if (!seen_edge) ignored_edges = true;
     }
   }
   if (!seen_vertex) ply_fail("no vertex element");
-  if (!seen_face) ply_fail("no face element");
+  if (!seen_face && !seen_edge)
+    ply_fail(ignored_edges ? "no face element (its edge element has no vertex1, vertex2)"
+                           : "no face element (nor an edge element)");
 
   TriMesh mesh;
   PlyBody body(bytes, h, kPlyContext);
@@ -195,16 +215,21 @@ TriMesh decode_mesh_ply(const std::string& bytes) {
                " rows, found " + std::to_string(body.remaining()) + " bytes of data");
     if (e.name == "vertex") mesh.vertices.resize(e.count);
     if (e.name == "face") mesh.triangles.reserve(e.count);
+    const bool segments = e.name == "edge" && seen_edge;
+    if (segments) mesh.segments.reserve(e.count);
     PlyPlace at;
     at.element = &e;
     for (size_t row = 0; row < e.count; ++row) {
       at.row = row;
+      std::array<int32_t, 2> ends = {0, 0};
       for (const PlyProperty& p : e.properties) {
         at.property = &p;
         if (!p.list) {
           const double v = body.next(p.type, at);
           if (e.name == "vertex" && p.name.size() == 1 && p.name[0] >= 'x' && p.name[0] <= 'z')
             mesh.vertices[row][p.name[0] - 'x'] = float(v);
+          if (segments && (p.name == "vertex1" || p.name == "vertex2"))
+            ends[p.name[6] - '1'] = int32_t(whole(v, double(mesh.vertices.size()), at, "vertex index"));
           continue;
         }
         const int64_t n = whole(body.next(p.count_type, at), 1e9, at, "list count");
@@ -224,6 +249,7 @@ TriMesh decode_mesh_ply(const std::string& bytes) {
           for (size_t k = 1; k + 1 < corners.size(); ++k)
             mesh.triangles.push_back({corners[0], corners[k], corners[k + 1]});
       }
+      if (segments) mesh.segments.push_back(ends);
     }
   }
   return mesh;

@@ -1,0 +1,118 @@
+#include "tear/geometry/codim_mesh.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <random>
+
+namespace tear {
+
+CodimMesh make_sheet(const Vec3d& center, const double size[2], const int resolution[2],
+                     bool random, uint64_t seed) {
+  CodimMesh mesh;
+  mesh.manifold = 2;
+  const int nx = resolution[0], nz = resolution[1];
+  const double hx = size[0] / nx, hz = size[1] / nz;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> jitter(-0.25, 0.25);
+  auto index = [&](int i, int k) { return uint32_t(k * (nx + 1) + i); };
+  for (int k = 0; k <= nz; ++k)
+    for (int i = 0; i <= nx; ++i) {
+      double u = i, w = k;
+      if (random && i > 0 && i < nx && k > 0 && k < nz) u += jitter(rng), w += jitter(rng);
+      mesh.vertices.push_back(center + Vec3d(-size[0] / 2 + u * hx, 0, -size[1] / 2 + w * hz));
+    }
+  std::bernoulli_distribution coin(0.5);
+  for (int k = 0; k < nz; ++k)
+    for (int i = 0; i < nx; ++i) {
+      const uint32_t a = index(i, k), b = index(i + 1, k), c = index(i + 1, k + 1),
+                     d = index(i, k + 1);
+      // Counter-clockwise seen from +y (x, z axes): normals point up.
+      const bool diagonal_ac = random ? coin(rng) : (i + k) % 2 == 0;
+      if (diagonal_ac) {
+        mesh.elements.push_back({a, c, b});
+        mesh.elements.push_back({a, d, c});
+      } else {
+        mesh.elements.push_back({a, d, b});
+        mesh.elements.push_back({b, d, c});
+      }
+    }
+  return mesh;
+}
+
+CodimMesh make_rope(const Vec3d& from, const Vec3d& to, int segments) {
+  CodimMesh mesh;
+  mesh.manifold = 1;
+  for (int k = 0; k <= segments; ++k)
+    mesh.vertices.push_back(from + (to - from) * (double(k) / segments));
+  for (int k = 0; k < segments; ++k) mesh.elements.push_back({uint32_t(k), uint32_t(k + 1), 0});
+  return mesh;
+}
+
+std::string find_mesh_defect(const CodimMesh& mesh, int dim) {
+  const char* what = mesh.manifold == 1 ? "segment " : "triangle ";
+  const size_t n = mesh.vertices.size(), corners = mesh.corners();
+  if (mesh.elements.empty())
+    return std::string("has no ") + (mesh.manifold == 1 ? "segments" : "triangles");
+  auto point = [&](size_t v) {
+    const Vec3d& x = mesh.vertices[v];
+    char s[96];
+    std::snprintf(s, sizeof s, "(%.6g, %.6g, %.6g)", x[0], x[1], x[2]);
+    return std::string(s);
+  };
+  Vec3d lo = Vec3d::Constant(INFINITY), hi = Vec3d::Constant(-INFINITY);
+  for (size_t v = 0; v < n; ++v) {
+    if (!mesh.vertices[v].allFinite()) return "vertex " + std::to_string(v) + " is not finite";
+    if (dim == 2 && mesh.vertices[v].z() != 0)
+      return "vertex " + std::to_string(v) + " " + point(v) + " is off the plane z = 0 of a 2D scene";
+    lo = lo.cwiseMin(mesh.vertices[v]);
+    hi = hi.cwiseMax(mesh.vertices[v]);
+  }
+  // Two vertices at one point (a seam not welded, a duplicated strand): sorted, neighbours.
+  std::vector<uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0u);
+  auto key = [&](uint32_t v) {
+    const Vec3d& x = mesh.vertices[v];
+    return std::array<double, 3>{x[0], x[1], x[2]};
+  };
+  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+    return key(a) != key(b) ? key(a) < key(b) : a < b;
+  });
+  for (size_t k = 1; k < n; ++k)
+    if (key(order[k]) == key(order[k - 1]))
+      return "vertices " + std::to_string(order[k - 1]) + " and " + std::to_string(order[k]) +
+             " are at the same point " + point(order[k]) + " (weld them into one)";
+  const double scale = std::max((hi - lo).maxCoeff(), 1e-300);
+  std::vector<char> used(n, 0);
+  for (size_t e = 0; e < mesh.elements.size(); ++e) {
+    const std::array<uint32_t, 3>& el = mesh.elements[e];
+    std::string ids;
+    for (size_t c = 0; c < corners; ++c) ids += (c ? ", " : "") + std::to_string(el[c]);
+    const std::string name = what + std::to_string(e);
+    for (size_t c = 0; c < corners; ++c)
+      if (el[c] >= n)
+        return name + " uses vertex " + std::to_string(el[c]) + ", beyond the last (" +
+               std::to_string(n == 0 ? 0 : n - 1) + ")";
+    for (size_t c = 0; c < corners; ++c)
+      for (size_t d = c + 1; d < corners; ++d)
+        if (el[c] == el[d]) return name + " uses vertex " + std::to_string(el[c]) + " twice";
+    const Vec3d e1 = mesh.vertices[el[1]] - mesh.vertices[el[0]];
+    // Relative to the mesh's extent: 1e-12 of it is below any meaningful element.
+    if (mesh.manifold == 1) {
+      if (!(e1.norm() > 1e-12 * scale)) return name + " has zero length (vertices " + ids + ")";
+    } else {
+      const Vec3d e2 = mesh.vertices[el[2]] - mesh.vertices[el[0]];
+      if (!(e1.cross(e2).norm() > 1e-12 * scale * scale))
+        return name + " has zero area (vertices " + ids + ")";
+    }
+    for (size_t c = 0; c < corners; ++c) used[el[c]] = 1;
+  }
+  for (size_t v = 0; v < n; ++v)
+    if (!used[v])
+      return "vertex " + std::to_string(v) + " " + point(v) + " belongs to no " +
+             (mesh.manifold == 1 ? "segment" : "triangle");
+  return "";
+}
+
+}  // namespace tear

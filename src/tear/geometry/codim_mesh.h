@@ -1,0 +1,48 @@
+// geometry/: the meshes of codimensional bodies (Jiang et al. 2017): polylines of segments
+// (yarn, hair, ropes) and triangle surfaces (cloth), in world space, with the generators a scene
+// names (a sheet, a rope, hair strands on a scalp, a knit swatch) and the checks that refuse
+// degenerate input. Knows nothing of particles, files or scenes.
+#pragma once
+
+#include "tear/math/types.h"
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace tear {
+
+struct CodimMesh {
+  int manifold = 1;  // 1: segments (curves), 2: triangles (a surface)
+  std::vector<Vec3d> vertices;
+  // Vertex indices of each element: a segment uses the first two.
+  std::vector<std::array<uint32_t, 3>> elements;
+  size_t corners() const { return size_t(manifold + 1); }
+};
+
+// A rectangular sheet of size[0] x size[1] in the plane y = center.y (x along size[0], z along
+// size[1]), resolution[0] x resolution[1] quads of two triangles each. Regular: the diagonals
+// alternate in a checkerboard (the mesh has the square's symmetries for even resolutions);
+// random: each quad's diagonal drawn at random and the interior vertices moved by up to a
+// quarter of a quad in each direction, from `seed`.
+CodimMesh make_sheet(const Vec3d& center, const double size[2], const int resolution[2],
+                     bool random, uint64_t seed);
+
+// A straight polyline of `segments` equal segments from `from` to `to`.
+CodimMesh make_rope(const Vec3d& from, const Vec3d& to, int segments);
+
+// Every vertex mapped by fn (a transform).
+template <class Fn>
+void transform_vertices(CodimMesh* mesh, Fn&& fn) {
+  for (Vec3d& v : mesh->vertices) v = fn(v);
+}
+
+// The first defect of `mesh`, "" when none: a vertex that is not finite, two vertices at the
+// same point, an element whose index is out of range or repeated, a zero-length segment or a
+// zero-area triangle (relative to the mesh's size), a vertex no element uses, no elements at
+// all. `dim` 2 also refuses a vertex off the z = 0 plane. The message names the vertex or element
+// (0-based) and the reason: "triangle 12 has zero area (vertices 3, 4, 9)".
+std::string find_mesh_defect(const CodimMesh& mesh, int dim);
+
+}  // namespace tear
