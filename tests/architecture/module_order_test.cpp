@@ -74,8 +74,8 @@ TEST(ModuleOrder, CMakeDeclaresTheArchitectureLayout) {
   std::vector<std::string> names;
   for (const Module& m : declared_modules()) names.push_back(m.name);
   const std::vector<std::string> layout = {
-      "math",   "exec", "geometry", "kernels", "solvers", "materials", "particles", "grid",
-      "damage", "mpm",  "io",       "scene",   "surface", "render",    "driver"};
+      "math",   "exec",  "geometry", "kernels", "solvers", "materials", "particles", "grid",
+      "damage", "codim", "mpm",      "io",      "scene",   "surface",   "render",    "driver"};
   EXPECT_EQ(names, layout);
   // Every module folder is declared.
   for (const auto& d : fs::directory_iterator(fs::path(source_dir()) / "src/tear")) {

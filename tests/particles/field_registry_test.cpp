@@ -164,6 +164,10 @@ TEST(FieldRegistry, OptionalColumnsAreWrittenOnlyWhereEnabled) {
   TestStore s = store_of(3);
   EXPECT_EQ(s.optional_columns(),
             (std::vector<std::string>{"plastic_strain", "fiber_tension", "driving_force",
+                                      "damage_laplacian", "contact", "normal_stretch"}));
+  // A scene may ask for the solids' ones; an element group has the last two on already.
+  EXPECT_EQ(s.requestable_columns(),
+            (std::vector<std::string>{"plastic_strain", "fiber_tension", "driving_force",
                                       "damage_laplacian"}));
   const std::vector<std::string> plain = frame_table(s, rows_by_id(s.id)).names;
   EXPECT_EQ(plain.back(), "test_only");

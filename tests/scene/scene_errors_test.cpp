@@ -194,7 +194,7 @@ std::vector<BrokenScene> broken_scenes() {
               "materials.jelly.rho: must be > 0, got 0"),
       patched("UnknownModel", R"({"materials": {"jelly": {"model": "rubber"}}})",
               "materials.jelly.model: unknown model \"rubber\" (expected one of: qr_aniso, "
-              "fixed_corotated, neo_hookean, stvk_hencky)"),
+              "fixed_corotated, neo_hookean, stvk_hencky, surface_qr, curve_qr)"),
       patched("ModelMissing", R"({"materials": {"jelly": {"model": null}}})",
               "materials.jelly.model: required"),
       patched("FiberScaleNegative",

@@ -32,7 +32,7 @@ class MpmSimulation final : public Simulation {
   explicit MpmSimulation(const Scene& scene)
       : settings_(mpm_settings(scene)),
         frame_dt_(scene.frame_dt),
-        state_(make_mpm_state<Dim>(settings_, sample_scene<Dim>(scene))),
+        state_(make_mpm_state<Dim>(settings_, sample_scene_groups<Dim>(scene))),
         start_(std::chrono::steady_clock::now()) {
     for (const MaterialSpec& m : scene.materials) material_names_.push_back(m.name);
     // For tests of the guard (docs/long-runs.md): TEAR_TEST_INJECT_NAN=STEP,ID makes particle
@@ -161,6 +161,34 @@ class MpmSimulation final : public Simulation {
     return tear::frame_rows(p, rows_);
   }
 
+  std::vector<MeshPart> frame_meshes() const override {
+    std::vector<MeshPart> parts;
+    for (const Particles<Dim>& el : state_.groups) {
+      const int gamma = element_dimension(el.kind);
+      if (gamma == 0) continue;
+      const Particles<Dim>& vx = state_.groups[size_t(el.vertex_group)];
+      MeshPart part;
+      part.name = gamma == 1 ? "curves" : "surfaces";
+      part.corners = gamma + 1;
+      // Codimensional groups are never reordered: row k is particle k, id k.
+      std::vector<uint32_t> rows(vx.size());
+      for (size_t k = 0; k < rows.size(); ++k) rows[k] = uint32_t(k);
+      const PointTable all = tear::frame_table(vx, rows);
+      part.vertices.count = vx.size();
+      for (const char* name : {"id", "x", "y", "z", "vx", "vy", "vz", "material"})
+        part.vertices.add(name, all.types[index_of(all, name)], all.column(name));
+      rows.resize(el.size());
+      for (size_t k = 0; k < rows.size(); ++k) rows[k] = uint32_t(k);
+      const PointTable cols = tear::frame_table(el, rows);
+      part.element_columns.count = el.size();
+      for (const char* name : {"id", "material", "contact", "normal_stretch"})
+        part.element_columns.add(name, cols.types[index_of(cols, name)], cols.column(name));
+      part.elements = el.element_vertices;
+      parts.push_back(std::move(part));
+    }
+    return parts;
+  }
+
   const PointTable& frame_table() const override {
     fill_table(frame_rows(), &table_);
     return table_;
@@ -201,7 +229,11 @@ class MpmSimulation final : public Simulation {
     }
     // Into fresh stores with the same fields, so that a refused checkpoint leaves the state.
     std::vector<Particles<Dim>> stores(groups);
-    for (uint32_t g = 0; g < groups; ++g) stores[g].enable_like(state_.groups[g]);
+    for (uint32_t g = 0; g < groups; ++g) {
+      stores[g].kind = state_.groups[g].kind;
+      stores[g].vertex_group = state_.groups[g].vertex_group;
+      stores[g].enable_like(state_.groups[g]);
+    }
     MpmState<Dim> state;
     state.time = r.get<double>();
     state.steps = long(r.get<int64_t>());
@@ -242,6 +274,16 @@ class MpmSimulation final : public Simulation {
         throw std::runtime_error(std::string("corrupt checkpoint (") + e.what() + ")");
       }
     }
+    for (const Particles<Dim>& g : stores) {
+      if (element_dimension(g.kind) == 0) continue;
+      const size_t vertices = stores[size_t(g.vertex_group)].size();
+      for (size_t e = 0; e < g.size(); ++e)
+        for (uint32_t v : g.element_vertices[e])
+          if (v >= vertices)
+            throw std::runtime_error("corrupt checkpoint (element " + std::to_string(e) +
+                                     " refers to vertex " + std::to_string(v) + " of " +
+                                     std::to_string(vertices) + ")");
+    }
     state.groups = std::move(stores);
     if (const ParticleFault f = find_particle_fault(settings_, state))
       throw std::runtime_error("corrupt checkpoint (" + describe(f, true) + ")");
@@ -266,6 +308,7 @@ class MpmSimulation final : public Simulation {
     const PhaseTimes& t = record_.times;
     return {{"sort", t.sort},     {"stress", t.stress},
             {"damage", t.damage}, {"crack fields", t.crack_fields},
+            {"codim forces", t.codim},
             {"p2g", t.p2g},       {"grid", t.grid},
             {"inextensibility", t.inextensibility}, {"g2p", t.g2p}};
   }
@@ -316,6 +359,10 @@ class MpmSimulation final : public Simulation {
     for (const Particles<Dim>& g : state_.groups) put_fields(g, &w, compact);
     put_checksum(&w);
     return w;
+  }
+
+  static size_t index_of(const PointTable& t, const std::string& name) {
+    return size_t(std::find(t.names.begin(), t.names.end(), name) - t.names.begin());
   }
 
   std::string material_name(uint16_t m) const {

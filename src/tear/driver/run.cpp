@@ -97,6 +97,10 @@ class FrameWriter {
       encode_points(rows, f, &buffer_, &table_);
       write_file_atomic(frame_path(dir_, frame, f), buffer_);
     }
+    // The codimensional meshes (cloth, yarn, hair), one file per part: PLY whatever the
+    // scene's formats (the other encoders do not hold elements yet).
+    for (const MeshPart& part : sim.frame_meshes())
+      write_file_atomic(mesh_part_path(dir_, frame, part.name, "ply"), encode_mesh_part_ply(part));
     if (std::find(formats_.begin(), formats_.end(), "vtu") != formats_.end()) {
       vtu_times_[frame] = sim.time();
       write_frames_pvd(dir_, vtu_times_);
@@ -550,6 +554,14 @@ int check_scene(const std::string& scene_path, const std::vector<std::string>& o
       const ObjectSpec& ob = s.objects[i];
       out << "object     " << i << ": " << objects.at(i).at("shape").at("type").get<std::string>()
           << ", material " << s.materials[size_t(ob.material)].name;
+      if (ob.kind != ObjectKind::Volume) {
+        const bool surface = ob.kind == ObjectKind::Surface;
+        out << ", " << (surface ? "surface" : "curves") << " of " << ob.mesh->vertices.size()
+            << " vertices and " << ob.mesh->elements.size()
+            << (surface ? " triangles, thickness " : " segments, radius ")
+            << (surface ? ob.thickness : ob.radius) << "\n";
+        continue;
+      }
       for (const RegionSpec& r : ob.regions)
         out << " (" << s.materials[size_t(r.material)].name << " in a "
             << objects.at(i).at("regions").at(&r - ob.regions.data()).at("shape").at("type").get<std::string>()
@@ -570,6 +582,7 @@ int check_scene(const std::string& scene_path, const std::vector<std::string>& o
     std::string encoded;
     for (const std::string& f : s.formats)
       encode_points(sim->frame_rows(), f, &encoded), frame_bytes += encoded.size();
+    for (const MeshPart& part : sim->frame_meshes()) frame_bytes += encode_mesh_part_ply(part).size();
     const size_t checkpoint = sim->checkpoint().size();
     const size_t checkpoint_max = sim->checkpoint_bytes_max();
     // Frame 0, every output_every-th frame, and the last frame.

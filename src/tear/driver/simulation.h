@@ -5,6 +5,7 @@
 #pragma once
 
 #include "tear/io/binary.h"
+#include "tear/io/mesh_frames.h"
 #include "tear/io/point_table.h"
 #include "tear/mpm/time_step.h"
 #include "tear/scene/scene.h"
@@ -94,6 +95,9 @@ class Simulation {
   // The same rows as a whole table (for the renderer and checks). Valid until the next call
   // (the simulation reuses its storage from frame to frame).
   virtual const PointTable& frame_table() const = 0;
+  // The codimensional parts of the frame (io/mesh_frames.h): one per kind of mesh the state
+  // holds ("curves", "surfaces"), none for a state of solids only.
+  virtual std::vector<MeshPart> frame_meshes() const { return {}; }
   // Wall seconds spent so far in each phase of the step, in step order (for people).
   virtual std::vector<std::pair<std::string, double>> phase_seconds() const = 0;
   // Bytes of memory now held by particles and grid.

@@ -7,6 +7,7 @@ namespace tear {
 template <int Dim>
 void update_stress(const MpmSettings& settings, MpmState<Dim>* state) {
   for (Particles<Dim>& p : state->groups) {
+    if (p.codimensional()) continue;  // their elements' stresses: codim_vertex_forces
     parallel_for(p.size(), [&](size_t i) {
       const MaterialParams& m = settings.materials[p.material[i]];
       p.stress[i] = first_piola<Dim>(m, p.F[i], p.fiber_of(i));

@@ -1,5 +1,6 @@
 #include "tear/mpm/explicit_step.h"
 
+#include "tear/codim/elements.h"
 #include "tear/damage/phase_field.h"
 #include "tear/exec/phase_timer.h"
 #include "tear/mpm/phases.h"
@@ -82,6 +83,12 @@ double integrate_step(const MpmSettings& settings, MpmState<Dim>* state, double 
   {
     PhaseTimer timer(&t.sort);
     sort_particles(state);
+  }
+  // The codimensional elements' stresses and their vertices' forces: from F alone, so once for
+  // every attempt below.
+  if (state->has_codim()) {
+    PhaseTimer timer(&t.codim);
+    codim_vertex_forces(settings.materials, &state->groups);
   }
   const StepStart<Dim> start(settings, *state);
   const Real m_min = Real(domain.min(double(smallest_particle_mass(*state))));

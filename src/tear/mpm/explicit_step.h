@@ -14,8 +14,8 @@ namespace tear {
 
 // Wall-clock seconds spent in each phase.
 struct PhaseTimes {
-  double sort = 0, stress = 0, damage = 0, crack_fields = 0, p2g = 0, grid = 0, inextensibility = 0,
-         g2p = 0;
+  double sort = 0, stress = 0, damage = 0, crack_fields = 0, codim = 0, p2g = 0, grid = 0,
+         inextensibility = 0, g2p = 0;
 };
 
 // The implicit integrator's solves (mpm/implicit_step.h), summed over steps.

@@ -1,4 +1,5 @@
 // The G2P phase: particle velocity, affine matrix, position and deformation gradient.
+#include "tear/codim/elements.h"
 #include "tear/exec/memory.h"
 #include "tear/exec/parallel.h"
 #include "tear/mpm/phases.h"
@@ -29,10 +30,12 @@ void gather(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
   // Home blocks in parallel; each copies the nodes its particles reach into a window.
   for (size_t g = 0; g < state->groups.size(); ++g) {
     Particles<Dim>& p = state->groups[g];
+    const GroupKind kind = p.kind;
     const ParticleBins<Dim>& bins = grid.bins(g);
     std::vector<int>& slots = state->home_slots[g];
-    reserve_large(&slots, p.size());
-    slots.resize(p.size());
+    const size_t binned = bins.particle_slot.size();  // 0 for element particles
+    reserve_large(&slots, binned);
+    slots.resize(binned);
     block_moved.assign(bins.home_blocks.size(), moved);
     parallel_for(bins.home_blocks.size(), [&](size_t b) {
       const typename SparseGrid<Dim>::HomeBlock& h = bins.home_blocks[b];
@@ -73,11 +76,14 @@ void gather(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
           G[c] = unit + dt * Cc;
           for (int a = 0; a < Dim; ++a) C(a, c) = Cc[a];
         }
-        const Mat<Dim> F = p.F[i];
-        for (int b = 0; b < Dim; ++b) {
-          Node col = G[0] * F(0, b);
-          for (int c = 1; c < Dim; ++c) col += G[c] * F(c, b);
-          for (int a = 0; a < Dim; ++a) p.F[i](a, b) = col[a];
+        // Mesh vertices have no F (element particles are not binned: update_element_geometry).
+        if (kind == GroupKind::Volumetric) {
+          const Mat<Dim> F = p.F[i];
+          for (int b = 0; b < Dim; ++b) {
+            Node col = G[0] * F(0, b);
+            for (int c = 1; c < Dim; ++c) col += G[c] * F(c, b);
+            for (int a = 0; a < Dim; ++a) p.F[i](a, b) = col[a];
+          }
         }
         Vec<Dim> vg, vg_old;
         for (int a = 0; a < Dim; ++a) vg[a] = v[a], vg_old[a] = v_old[a];
@@ -93,6 +99,16 @@ void gather(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
       moved.speed2 = std::max(moved.speed2, m.speed2);
       moved.min_mass = std::min(moved.min_mass, m.min_mass);
     }
+  }
+  // Element particles at their vertices' new places (vertex groups were all moved above).
+  for (size_t g = 0; g < state->groups.size(); ++g) {
+    Particles<Dim>& p = state->groups[g];
+    if (element_dimension(p.kind) == 0) continue;
+    update_element_geometry(state->groups[size_t(p.vertex_group)], dt, &p);
+    moved.speed2 = std::max(
+        moved.speed2, parallel_max<Real>(
+                          p.size(), [&](size_t i) { return kept.speed2_or_fault(p.x[i], p.v[i]); },
+                          Real(0)));
   }
   state->home_slots_step = state->steps + 1;
   state->moved = moved;

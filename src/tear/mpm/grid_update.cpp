@@ -67,7 +67,8 @@ Real smallest_particle_mass(const MpmState<Dim>& state) {
   if (state.moved_step == state.steps) return state.moved.min_mass;  // G2P's, no second pass
   Real neg_min_mass = -std::numeric_limits<Real>::infinity();
   for (const Particles<Dim>& p : state.groups)
-    neg_min_mass = std::max(neg_min_mass,
+    if (element_dimension(p.kind) == 0)  // element particles carry no mass
+      neg_min_mass = std::max(neg_min_mass,
                             parallel_max<Real>(
                                 p.size(), [&](size_t i) { return -p.mass[i]; },
                                 -std::numeric_limits<Real>::infinity()));

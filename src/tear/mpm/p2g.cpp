@@ -51,16 +51,28 @@ void scatter(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
     Node* const mass_momentum[2] = {win.mass_momentum[0].data(), win.mass_momentum[kSecond].data()};
     Node* const momentum_old[2] = {win.momentum_old[0].data(), win.momentum_old[kSecond].data()};
     const Vec<Dim>* const normal = win.normal.data();
+    const GroupKind kind = p.kind;
     for (uint32_t k = h.begin; k < h.end; ++k) {
       const uint32_t i = order[k];
-      // MLS-MPM: the stress enters as an affine momentum term (Hu et al. 2018, Eq. 29).
-      const Mat<Dim> stress = p2g_kirchhoff(settings, p, i, -dt * p.vol0[i] * inv_d);
-      const Real m = p.mass[i];
+      // MLS-MPM: the stress enters as an affine momentum term (Hu et al. 2018, Eq. 29). Mesh
+      // vertices carry their elements' in-manifold force (a momentum dt f, not in FLIP's
+      // force-free momentum) and shares of their normal stress (codim/elements.h).
+      Mat<Dim> stress;
+      Real m = p.mass[i];
+      if (kind == GroupKind::Volumetric)
+        stress = p2g_kirchhoff(settings, p, i, -dt * p.vol0[i] * inv_d);
+      else  // mesh vertices (element particles are not binned)
+        stress = (-dt * inv_d) * p.stress[i];
       // At a node, w (m, m v + A (x_i - x_p)) in the lanes (m, p), A the stress term plus
       // m C for APIC: m v plus the columns of A times the components of x_i - x_p one by one,
       // as the scalar sums would go; lane 0 adds zeros to m.
       const Vec<Dim> mv = m * p.v[i];
-      const Node base{m, mv[0], mv[1], Dim == 3 ? mv[Dim - 1] : 0};
+      const Node base_old{m, mv[0], mv[1], Dim == 3 ? mv[Dim - 1] : 0};
+      Node base = base_old;
+      if (kind == GroupKind::MeshVertices) {
+        const Vec<Dim> push = dt * p.force[i];
+        base += Node{0, push[0], push[1], Dim == 3 ? push[Dim - 1] : 0};
+      }
       Node column[Dim];
       for (int c = 0; c < Dim; ++c) {
         Vec<Dim> a = stress.col(c);
@@ -74,7 +86,7 @@ void scatter(const MpmSettings& settings, MpmState<Dim>* state, Real dt) {
         Node sum = base;
         for (int c = 0; c < Dim; ++c) sum += column[c] * rel[c];
         mass_momentum[f][wn] += w * sum;
-        if constexpr (kFlip) momentum_old[f][wn] += w * base;  // force-free: w m v in lanes 1..
+        if constexpr (kFlip) momentum_old[f][wn] += w * base_old;  // force-free: w m v in lanes 1..
       });
     }
     win.store(&grid, window);

@@ -79,8 +79,9 @@ void grid_update(const MpmSettings& settings, MpmState<Dim>* state, Real dt);
 template <int Dim>
 Real grid_speed_max(const MpmState<Dim>& state, Real m_min);
 
-// The smallest particle mass over all groups (+inf without particles), for grid_speed_max:
-// computed once a step, not once an attempt.
+// The smallest particle mass over all groups but the codimensional element particles (which
+// carry none; +inf without particles), for grid_speed_max: computed once a step, not once an
+// attempt.
 template <int Dim>
 Real smallest_particle_mass(const MpmState<Dim>& state);
 
@@ -121,7 +122,9 @@ template <int Dim>
 void g2p(const MpmSettings& settings, MpmState<Dim>* state, Real dt);
 
 // The plastic return map of every particle whose material is plastic, on the F that G2P just
-// updated (materials/plasticity.h; mpm/plasticity.cpp). Nothing without plastic materials.
+// updated (materials/plasticity.h; mpm/plasticity.cpp), and the frictional return map of every
+// codimensional element (codim_return_map, materials/material.h), which records its contact
+// state.
 template <int Dim>
 void project_plastic(const MpmSettings& settings, MpmState<Dim>* state);
 

@@ -7,6 +7,12 @@ namespace tear {
 template <int Dim>
 void project_plastic(const MpmSettings& settings, MpmState<Dim>* state) {
   for (Particles<Dim>& p : state->groups) {
+    if (element_dimension(p.kind) > 0) {  // codimensional elements: their friction
+      parallel_for(p.size(), [&](size_t i) {
+        p.contact[i] = uint8_t(codim_return_map<Dim>(settings.materials[p.material[i]], &p.F[i]));
+      });
+      continue;
+    }
     if (!p.enabled("plastic_strain")) continue;  // no plastic material
     const bool volume = p.enabled("plastic_volume");
     parallel_for(p.size(), [&](size_t i) {

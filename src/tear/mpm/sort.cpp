@@ -14,8 +14,11 @@ constexpr double kReorderFraction = 0.1;
 
 template <int Dim>
 void sort_particles(MpmState<Dim>* state) {
+  // Codimensional element particles are not binned: their vertices carry them (codim/).
+  static const std::vector<Vec<Dim>> kNone;
   std::vector<const std::vector<Vec<Dim>>*> positions;
-  for (const Particles<Dim>& g : state->groups) positions.push_back(&g.x);
+  for (const Particles<Dim>& g : state->groups)
+    positions.push_back(element_dimension(g.kind) > 0 ? &kNone : &g.x);
   SparseGrid<Dim>& grid = state->grid;
   // G2P's home slots where they describe these positions (no pass over the positions).
   const bool made = state->home_slots_step == state->steps;
@@ -24,6 +27,7 @@ void sort_particles(MpmState<Dim>* state) {
   std::vector<size_t> reordered;
   for (size_t g = 0; g < state->groups.size(); ++g) {
     Particles<Dim>& p = state->groups[g];
+    if (p.codimensional()) continue;  // elements refer to vertices by index: never reordered
     const std::vector<int>& slot = grid.bins(g).particle_slot;
     const size_t moved = deterministic_sum<size_t>(
         slot.size(), [&](size_t i) { return size_t(slot[i] != p.reorder_slot[i]); });

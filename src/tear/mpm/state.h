@@ -37,6 +37,12 @@ struct MpmState {
   Moved moved;
   long moved_step = -1;
 
+  bool has_codim() const {
+    for (const Particles<Dim>& g : groups)
+      if (g.codimensional()) return true;
+    return false;
+  }
+
   size_t num_particles() const {
     size_t n = 0;
     for (const Particles<Dim>& g : groups) n += g.size();

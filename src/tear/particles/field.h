@@ -9,6 +9,7 @@
 #include "tear/math/types.h"
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -80,6 +81,12 @@ template <int Dim>
 struct FieldValue<Mat<Dim>> {
   static constexpr int kComponents = 0;
   static double component(const Mat<Dim>&, int) { return 0; }
+};
+// Index tuples (an element's vertices): not written as columns.
+template <class T, size_t N>
+struct FieldValue<std::array<T, N>> {
+  static constexpr int kComponents = 0;
+  static double component(const std::array<T, N>&, int) { return 0; }
 };
 
 // A store's list of fields. Entries are kept as offsets from the registry, so a copied or moved

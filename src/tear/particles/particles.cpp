@@ -1,8 +1,34 @@
 #include "tear/particles/particles.h"
 
+#include "tear/math/qr.h"
+
 #include <cstring>
 
 namespace tear {
+
+template <int Dim>
+Particles<Dim>::Particles(GroupKind group_kind) : kind(group_kind) {
+  if (kind == GroupKind::Volumetric) {
+    enable("fiber");
+  } else if (kind == GroupKind::MeshVertices) {
+    enable("force");
+    enable("stress");  // its elements' normal stress shares, for P2G
+  } else {
+    enable("element_vertices");
+    enable("rest_inverse");
+    enable("contact");
+    enable("stress");  // the element's V P, for its vertices' forces and P2G
+    enable("normal_stretch");
+  }
+}
+
+template <int Dim>
+std::vector<std::string> Particles<Dim>::requestable_columns() const {
+  std::vector<std::string> out;
+  for (const std::string& name : optional_columns())
+    if (name != "contact" && name != "normal_stretch") out.push_back(name);
+  return out;
+}
 
 template <int Dim>
 bool Particles<Dim>::is_identity(const M& frame) {
@@ -45,6 +71,16 @@ template <int Dim>
 void Particles<Dim>::driving_force_of(const FieldRegistry& store, size_t i, double* out) {
   const auto& p = static_cast<const Particles<Dim>&>(store);
   out[0] = p.drive.size() > i ? double(p.drive[i]) : 0.0;
+}
+
+template <int Dim>
+void Particles<Dim>::normal_stretch_of(const FieldRegistry& store, size_t i, double* out) {
+  const auto& p = static_cast<const Particles<Dim>&>(store);
+  M Q, R;
+  qr_decompose<Dim>(p.F[i], &Q, &R);
+  out[0] = p.kind == GroupKind::SurfaceElements ? double(R(Dim - 1, Dim - 1))
+           : Dim == 2                           ? double(R(1, 1))
+                                                : double(R(1, 1) * R(Dim - 1, Dim - 1));
 }
 
 template struct Particles<2>;

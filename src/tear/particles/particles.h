@@ -7,14 +7,29 @@
 #include "tear/particles/field.h"
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace tear {
 
-// What a group's particles are. Volumetric: samples of a solid, each with its own F (today's
-// only kind). Codimensional curve and surface vertices and elements (jiang2017) come later,
-// each kind with the fields it needs.
-enum class GroupKind { Volumetric };
+// What a group's particles are (Jiang et al. 2017 supplement, particles of types (i)-(iii)):
+//  - Volumetric: samples of a solid, each with its own F.
+//  - MeshVertices: the vertices of codimensional meshes (curves, surfaces): mass, x, v and the
+//    APIC C, moved by the grid; they carry their elements' in-manifold force (`force`) and
+//    shares of their normal stress (`stress`) to the grid. F is unused (the identity).
+//  - CurveElements, SurfaceElements: one quadrature particle per segment or triangle, at its
+//    centroid: the element's vertices (`element_vertices`, indices into the group
+//    `vertex_group`), its rest D^-1 (`rest_inverse`), F = [d1 (d2) | normals] D^-1 with the
+//    tangent columns from the vertices and the normals advected by their vertices' velocity
+//    gradient, the elastic volume `vol0` and no mass (codim/elements.h says why). They take no
+//    part in the grid transfers: their vertices carry their forces.
+// Codimensional groups are never reordered in memory (elements refer to vertices by index).
+enum class GroupKind { Volumetric, MeshVertices, CurveElements, SurfaceElements };
+
+// The manifold dimension of an element group's elements (1, 2), 0 for the others.
+inline int element_dimension(GroupKind kind) {
+  return kind == GroupKind::CurveElements ? 1 : kind == GroupKind::SurfaceElements ? 2 : 0;
+}
 
 // One particle group. Frame files list the columns in declaration order: id, x y z, vx vy vz,
 // damage, material, fx fy fz (ARCHITECTURE.md "Outputs"), then the optional columns a run asks
@@ -25,6 +40,8 @@ struct Particles : FieldRegistry {
   using M = Mat<Dim>;
 
   GroupKind kind = GroupKind::Volumetric;
+  // Element groups: the index of their vertices' group in the state's groups (-1: none).
+  int vertex_group = -1;
 
   // Stable identity across reorderings: 0..n-1 in sampling order.
   Field<uint32_t> id{this, state_field("id", {{"id"}, ColumnType::Int32}), 0};
@@ -78,7 +95,31 @@ struct Particles : FieldRegistry {
       this, optional_state_field("damage_laplacian", {{"damage_laplacian"}, ColumnType::Float32}),
       0};
 
+  // Codimensional groups (GroupKind): an element's vertex indices (segments use the first two),
+  // its rest D^-1 (block diagonal: the tangents' rest edges inverted, identity on the normals),
+  // and what its friction return map found (ContactState of materials/material.h: a frame
+  // column); a vertex's in-manifold force, made every step before P2G.
+  Field<std::array<uint32_t, 3>> element_vertices{this, optional_state_field("element_vertices"),
+                                                  {0, 0, 0}};
+  Field<M> rest_inverse{this, optional_state_field("rest_inverse"), M::Identity()};
+  Field<uint8_t> contact{this, optional_state_field("contact", {{"contact"}, ColumnType::UInt8}),
+                         0};
+  Field<V> force{this, optional_scratch_field("force"), V::Zero()};
+  // Element groups' frame column: how far the normal is from rest, r33 of F = Q R for a surface
+  // (1 apart, < 1 pressed against a layer, < 0 inverted), the cross-section's area r22 r33 (3D)
+  // or r22 (2D) for a curve.
+  DerivedColumns normal_stretch{this, {{"normal_stretch"}, ColumnType::Float32},
+                                &normal_stretch_of, true};
+
   Particles() { enable("fiber"); }
+  // A group of another kind, with the optional fields the kind needs (fiber off).
+  explicit Particles(GroupKind group_kind);
+
+  bool codimensional() const { return kind != GroupKind::Volumetric; }
+
+  // The optional frame columns a run may ask for (scene output.fields): the solids' ones. The
+  // element groups' own (contact, normal_stretch) are written in every frame's mesh parts.
+  std::vector<std::string> requestable_columns() const;
 
   // Append one particle at rest (F = I, C = 0, d = 0) with id = its index. A frame other than
   // the identity turns the fiber field on.
@@ -96,6 +137,7 @@ struct Particles : FieldRegistry {
   static bool is_identity(const M& frame);
   static void world_fiber_of(const FieldRegistry& store, size_t i, double* out);
   static void driving_force_of(const FieldRegistry& store, size_t i, double* out);
+  static void normal_stretch_of(const FieldRegistry& store, size_t i, double* out);
 };
 
 }  // namespace tear

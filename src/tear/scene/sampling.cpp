@@ -3,6 +3,8 @@
 // depend on iteration order, thread count or the standard library.
 #include "tear/scene/sampling.h"
 
+#include "tear/codim/elements.h"
+
 #include "tear/exec/parallel.h"
 
 #include "tear/geometry/shape.h"
@@ -218,6 +220,7 @@ Particles<Dim> sample_scene(const Scene& scene) {
   std::vector<Cell> cells;
   size_t n = 0;
   for (size_t obj = 0; obj < scene.objects.size(); ++obj) {
+    if (scene.objects[obj].kind != ObjectKind::Volume) continue;  // sample_scene_groups
     if (const auto& pts = scene.objects[obj].points) {
       cells.push_back({obj, IVec<Dim>::Zero(), n});
       n += pts->x.size();
@@ -317,7 +320,38 @@ Particles<Dim> sample_scene(const Scene& scene) {
   return out;
 }
 
+template <int Dim>
+std::vector<Particles<Dim>> sample_scene_groups(const Scene& scene) {
+  std::vector<Particles<Dim>> groups;
+  groups.push_back(sample_scene<Dim>(scene));
+  for (ObjectKind kind : {ObjectKind::Curves, ObjectKind::Surface}) {
+    Particles<Dim> vertices(GroupKind::MeshVertices);
+    Particles<Dim> elements(kind == ObjectKind::Curves ? GroupKind::CurveElements
+                                                       : GroupKind::SurfaceElements);
+    for (const ObjectSpec& o : scene.objects) {
+      if (o.kind != kind) continue;
+      CodimBody body;
+      body.material = uint16_t(o.material);
+      body.rho = scene.materials[size_t(o.material)].params.rho;
+      body.thickness = o.thickness;
+      body.radius = o.radius;
+      body.velocity = o.velocity;
+      body.angular_velocity = o.angular_velocity;
+      body.center = o.shape.world_center();
+      if (kind == ObjectKind::Surface) body.warp = o.fibers.a1;
+      append_codim_body<Dim>(*o.mesh, body, &vertices, &elements);
+    }
+    if (elements.size() == 0) continue;
+    elements.vertex_group = int(groups.size());
+    groups.push_back(std::move(vertices));
+    groups.push_back(std::move(elements));
+  }
+  return groups;
+}
+
 template Particles<2> sample_scene<2>(const Scene&);
+template std::vector<Particles<2>> sample_scene_groups<2>(const Scene&);
+template std::vector<Particles<3>> sample_scene_groups<3>(const Scene&);
 template Particles<3> sample_scene<3>(const Scene&);
 template Mat<2> fiber_frame_at<2>(const FiberSpec&, const Vec3d&, uint64_t);
 template Mat<3> fiber_frame_at<3>(const FiberSpec&, const Vec3d&, uint64_t);

@@ -4,6 +4,8 @@
 #include "tear/particles/particles.h"
 #include "tear/scene/scene.h"
 
+#include <vector>
+
 namespace tear {
 
 // Sample every object of the scene into particles, deterministically from scene.seed:
@@ -12,6 +14,13 @@ namespace tear {
 // fiber frame from the object's fiber field. Ids are 0..n-1 in sampling order.
 template <int Dim>
 Particles<Dim> sample_scene(const Scene& scene);
+
+// Every group of the scene: the solids' particles (sample_scene, group 0, empty where the scene
+// has no solid), then for curves and for surfaces, where the scene has some, a group of mesh
+// vertices followed by its group of element particles (codim/elements.h append_codim_body),
+// objects in scene order within each.
+template <int Dim>
+std::vector<Particles<Dim>> sample_scene_groups(const Scene& scene);
 
 // Orthonormal fiber frame [a1 a2 (a1 x a2)] of the object's fiber field at world point p.
 template <int Dim>

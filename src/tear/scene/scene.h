@@ -4,6 +4,7 @@
 #pragma once
 
 #include "tear/damage/damage_settings.h"
+#include "tear/geometry/codim_mesh.h"
 #include "tear/geometry/shape.h"
 #include "tear/grid/collider.h"
 #include "tear/materials/material.h"
@@ -53,6 +54,7 @@ struct FiberSpec {
 
 struct MaterialSpec {
   std::string name;
+  // The codimensional keys (normal_stiffness, shear_stiffness, friction) are in params.
   MaterialParams params;
   Real fiber_scale[2] = {0, 0};
   DamageParams damage;
@@ -78,14 +80,23 @@ struct RegionSpec {
   FiberSpec fibers;
 };
 
+// What an object is (its "kind"): a solid sampled with particles, or a codimensional body of
+// Jiang et al. 2017 whose mesh becomes particles: a surface (cloth, 3D) or curves (yarn, hair).
+enum class ObjectKind { Volume, Surface, Curves };
+
 struct ObjectSpec {
+  ObjectKind kind = ObjectKind::Volume;
+  // Surface and curves objects: the world-space mesh (checked: no degenerate element, every
+  // vertex inside the domain less one cell), a surface's thickness and a curve's radius.
+  std::shared_ptr<const CodimMesh> mesh;
+  double thickness = 0, radius = 0;
   Shape shape;
   int material = 0;            // index into Scene::materials
   int ppc = 4;                 // particles per cell
   bool grid_sampling = false;  // "sampling": "grid" (regular lattice) vs stratified random
   Vec3d velocity = Vec3d::Zero();
   Vec3d angular_velocity = Vec3d::Zero();  // about the shape's world centre; 2D uses z
-  FiberSpec fibers;
+  FiberSpec fibers;  // surfaces: a constant a1 is the warp direction
   std::vector<RegionSpec> regions;  // in priority order; particles in none keep the above
   // A "particles" object: its points (not sampled); `shape` is then their bounding box.
   std::shared_ptr<const PointSet> points;

@@ -95,12 +95,44 @@ json parse_plasticity(const Reader& r, const json& m, const std::string& path, R
           {"volume_correction", correct}};
 }
 
+// normal_stiffness (k), shear_stiffness (gamma) and friction (c_F, or friction_angle in degrees:
+// c_F = tan) of a codimensional model; refused for the others.
+json parse_codim_keys(const Reader& r, const json& m, const std::string& path,
+                      const std::string& model_str, MaterialParams* p) {
+  const char* keys[] = {"normal_stiffness", "shear_stiffness", "friction", "friction_angle"};
+  if (model_codimension(p->model) == 0) {
+    for (const char* key : keys)
+      r.check(!r.find(m, key), key_path(path, key),
+              "only for the codimensional models (surface_qr, curve_qr), not \"" + model_str + "\"");
+    return json::object();
+  }
+  p->normal_stiffness = Real(r.number(m, path, "normal_stiffness", double(p->normal_stiffness)));
+  r.positive(p->normal_stiffness, key_path(path, "normal_stiffness"));
+  p->shear_stiffness = Real(r.number(m, path, "shear_stiffness", double(p->shear_stiffness)));
+  r.positive(p->shear_stiffness, key_path(path, "shear_stiffness"));
+  if (r.find(m, "friction_angle")) {
+    r.check(!r.find(m, "friction"), key_path(path, "friction_angle"),
+            "give \"friction\" (the coefficient) or \"friction_angle\" (degrees), not both");
+    const double angle = r.number(m, path, "friction_angle");
+    r.check(angle >= 0 && angle < 90, key_path(path, "friction_angle"),
+            "must be in [0, 90) degrees, got " + num_str(angle));
+    p->friction = Real(std::tan(angle * 3.14159265358979323846 / 180));
+  } else {
+    p->friction = Real(r.number(m, path, "friction", double(p->friction)));
+    r.non_negative(p->friction, key_path(path, "friction"));
+  }
+  return {{"normal_stiffness", p->normal_stiffness},
+          {"shear_stiffness", p->shear_stiffness},
+          {"friction", p->friction}};
+}
+
 MaterialSpec parse_material(const Reader& r, const std::string& name, const json& m,
                             json* out) {
   std::string path = key_path("materials", name);
   r.object(m, path,
            {"model", "E", "nu", "rho", "fiber_scale", "lambda_convention", "damage", "plasticity",
-            "inextensible", "inextensibility_relaxation"});
+            "inextensible", "inextensibility_relaxation", "normal_stiffness", "shear_stiffness",
+            "friction", "friction_angle"});
   MaterialSpec spec;
   spec.name = name;
   std::string model_str = r.string(m, path, "model");
@@ -157,6 +189,9 @@ MaterialSpec parse_material(const Reader& r, const std::string& name, const json
     spec.params.lambda = lame_lambda(Real(E), Real(nu));
   }
 
+  // The codimensional models' own keys (materials/material.h): physical defaults from E, nu.
+  json codim = parse_codim_keys(r, m, path, model_str, &spec.params);
+
   json damage = parse_damage_spec(r, m, path, &spec.damage);
   json plasticity = parse_plasticity(r, m, path, Real(E), Real(nu), &spec.plasticity);
   InextensibleParams& inx = spec.inextensibility;
@@ -170,6 +205,15 @@ MaterialSpec parse_material(const Reader& r, const std::string& name, const json
     relaxation = inx.relaxation;
   }
 
+  if (traits.codimension > 0) {
+    // Their friction is their return map; nothing else bends or binds them yet.
+    for (const char* key : {"plasticity", "inextensible"})
+      if (const json* v = r.find(m, key))
+        r.check(v->is_null() || *v == false, key_path(path, key),
+                "not for the codimensional model \"" + model_str +
+                    "\" (its friction return map is its plasticity: see \"friction\")");
+  }
+
   json fsj = json::array();
   for (int i = 0; i < nfs; ++i) fsj.push_back(fs[i]);
   *out = {{"model", model_str}, {"E", E},          {"nu", nu},
@@ -178,6 +222,7 @@ MaterialSpec parse_material(const Reader& r, const std::string& name, const json
           {"damage", damage},
           {"plasticity", plasticity}, {"inextensible", inx.enabled},
           {"inextensibility_relaxation", relaxation}};
+  out->update(codim);
   return spec;
 }
 

@@ -1,6 +1,7 @@
 // "objects" and "boundaries" sections (SCENE_FORMAT.md).
 #include "tear/io/atomic_file.h"
 #include "tear/io/ply.h"
+#include "tear/materials/registry.h"
 #include "tear/scene/scene_parts.h"
 
 #include <cmath>
@@ -181,19 +182,6 @@ json parse_points(const Reader& r, const json& shape, const std::string& path, c
   return out;
 }
 
-// The index in scene.materials of the material named at obj["material"].
-int material_index(const Reader& r, const json& obj, const std::string& path, const Scene& scene,
-                   json* out) {
-  std::string mat = r.string(obj, path, "material");
-  (*out)["material"] = mat;
-  for (size_t i = 0; i < scene.materials.size(); ++i)
-    if (scene.materials[i].name == mat) return int(i);
-  std::string list;
-  for (const MaterialSpec& m : scene.materials) list += (list.empty() ? "" : ", ") + m.name;
-  r.fail(key_path(path, "material"),
-         "unknown material \"" + mat + "\" (defined: " + (list.empty() ? "none" : list) + ")");
-}
-
 // objects[].regions: [{shape, material, fibers}], each region's fibers defaulting to the
 // object's (the same field carries on into the region).
 json parse_regions(const Reader& r, const json& o, const std::string& path, const Scene& scene,
@@ -231,11 +219,15 @@ json parse_regions(const Reader& r, const json& o, const std::string& path, cons
 }
 
 json parse_object(const Reader& r, const json& o, const std::string& path, const Scene& scene,
-                  ObjectSpec* spec) {
+                  size_t index, ObjectSpec* spec) {
+  if (!o.is_object()) r.fail(path, "must be an object, got " + type_desc(o));
+  spec->kind = ObjectKind(r.choice(o, path, "kind", {"volume", "surface", "curves"}, 0));
+  if (spec->kind != ObjectKind::Volume) return parse_codim_object(r, o, path, scene, index, spec);
   r.object(o, path,
-           {"shape", "material", "ppc", "sampling", "velocity", "angular_velocity", "fibers",
-            "regions"});
+           {"kind", "shape", "material", "ppc", "sampling", "velocity", "angular_velocity",
+            "fibers", "regions"});
   json out;
+  out["kind"] = "volume";
   const json* sj = r.find(o, "shape");
   if (!sj) r.fail(key_path(path, "shape"), "required");
   if (sj->is_object() && sj->contains("type") && (*sj)["type"] == "particles")
@@ -252,6 +244,13 @@ json parse_object(const Reader& r, const json& o, const std::string& path, const
                 num_str(scene.domain_min[i]) + ", " + num_str(scene.domain_max[i]) + "])");
 
   spec->material = material_index(r, o, path, scene, &out);
+  const Model model = scene.materials[size_t(spec->material)].params.model;
+  if (model_codimension(model) != 0)
+    r.fail(key_path(path, "material"),
+           "material \"" + out["material"].get<std::string>() + "\" is " + model_name(model) +
+               ", a model for " + (model_codimension(model) == 2 ? "surfaces" : "curves") +
+               ": give the object \"kind\": \"" +
+               (model_codimension(model) == 2 ? "surface" : "curves") + "\" and a mesh shape");
 
   long long ppc = r.integer(o, path, "ppc", default_ppc(r.dim));
   r.check(ppc >= 1 && ppc <= 4096, key_path(path, "ppc"),
@@ -309,13 +308,25 @@ const json* array_section(const Reader& r, const json& doc, const char* key) {
 
 }  // namespace
 
+int material_index(const Reader& r, const json& obj, const std::string& path, const Scene& scene,
+                   json* out) {
+  std::string mat = r.string(obj, path, "material");
+  (*out)["material"] = mat;
+  for (size_t i = 0; i < scene.materials.size(); ++i)
+    if (scene.materials[i].name == mat) return int(i);
+  std::string list;
+  for (const MaterialSpec& m : scene.materials) list += (list.empty() ? "" : ", ") + m.name;
+  r.fail(key_path(path, "material"),
+         "unknown material \"" + mat + "\" (defined: " + (list.empty() ? "none" : list) + ")");
+}
+
 json parse_objects(const Reader& r, const json& doc, Scene* scene) {
   json out = json::array();
   const json* objs = array_section(r, doc, "objects");
   if (!objs) r.fail("objects", "required");
   for (size_t i = 0; i < objs->size(); ++i) {
     ObjectSpec spec;
-    out.push_back(parse_object(r, (*objs)[i], index_path("objects", i), *scene, &spec));
+    out.push_back(parse_object(r, (*objs)[i], index_path("objects", i), *scene, i, &spec));
     scene->objects.push_back(spec);
   }
   return out;

@@ -11,6 +11,17 @@ json parse_materials(const Reader& r, const json& doc, Scene* scene);
 // One shape description at `path`; half_space is allowed only for colliders.
 json parse_shape(const Reader& r, const json& j, const std::string& path, bool allow_half_space,
                  Shape* shape);
+// The index in scene.materials of the material named at obj["material"] (also recorded in
+// (*out)["material"]); an unknown name fails listing the defined ones.
+int material_index(const Reader& r, const json& obj, const std::string& path, const Scene& scene,
+                   json* out);
+// A shape's optional "transform" (translate, rotate, scale) into *t.
+json parse_transform(const Reader& r, const json& shape, const std::string& path,
+                     ShapeTransform* t);
+// A codimensional object (objects[i] with "kind" "surface" or "curves"; scene_codim.cpp): its
+// mesh made, checked and placed. `index` seeds a random triangulation.
+json parse_codim_object(const Reader& r, const json& o, const std::string& path,
+                        const Scene& scene, size_t index, ObjectSpec* spec);
 // "objects": needs scene->materials (names) and scene->dx-independent fields only.
 json parse_objects(const Reader& r, const json& doc, Scene* scene);
 // "boundaries".

@@ -19,6 +19,8 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
+}  // namespace
+
 json parse_transform(const Reader& r, const json& shape, const std::string& path,
                      ShapeTransform* t) {
   static const json kEmpty = json::object();
@@ -50,6 +52,8 @@ json parse_transform(const Reader& r, const json& shape, const std::string& path
   }
   return out;
 }
+
+namespace {
 
 // A unit axis (rejecting zero) read from obj[key].
 Vec3d unit_vec(const Reader& r, const json& obj, const std::string& path, const char* key,

@@ -1,0 +1,144 @@
+#include "tear/io/mesh_frames.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+
+#include "tear/io/endian.h"
+#include "tear/io/ply_header.h"
+
+namespace tear {
+
+namespace {
+
+constexpr const char* kContext = "bad PLY mesh part";
+
+const char* ply_type(ColumnType t) {
+  switch (t) {
+    case ColumnType::Int32: return "int";
+    case ColumnType::UInt8: return "uchar";
+    case ColumnType::Float32: return "float";
+    case ColumnType::Float64: return "double";
+  }
+  return "?";
+}
+
+void put(std::string* out, ColumnType t, double v) {
+  char b[8];
+  switch (t) {
+    case ColumnType::Int32: store_le(b, int32_t(v)), out->append(b, 4); break;
+    case ColumnType::UInt8: store_le(b, uint8_t(v)), out->append(b, 1); break;
+    case ColumnType::Float32: store_le(b, float(v)), out->append(b, 4); break;
+    case ColumnType::Float64: store_le(b, v), out->append(b, 8); break;
+  }
+}
+
+std::string properties(const PointTable& t) {
+  std::string h;
+  for (size_t c = 0; c < t.names.size(); ++c)
+    h += "property " + std::string(ply_type(t.types[c])) + " " + t.names[c] + "\n";
+  return h;
+}
+
+ColumnType column_type(NumberType t) {
+  switch (t) {
+    case NumberType::Int32: return ColumnType::Int32;
+    case NumberType::UInt8: return ColumnType::UInt8;
+    case NumberType::Float32: return ColumnType::Float32;
+    default: return ColumnType::Float64;
+  }
+}
+
+}  // namespace
+
+bool is_mesh_part_format(const std::string& format) { return format == "ply"; }
+
+std::string mesh_part_path(const std::string& dir, int frame, const std::string& part,
+                           const std::string& format) {
+  char name[32];
+  std::snprintf(name, sizeof(name), "%05d.", frame);
+  return (std::filesystem::path(dir) / "frames" / (name + part + "." + format)).string();
+}
+
+std::string encode_mesh_part_ply(const MeshPart& part) {
+  part.vertices.check_shape();
+  part.element_columns.check_shape();
+  if (part.element_columns.count != part.elements.size())
+    throw std::runtime_error("mesh part '" + part.name + "': " +
+                             std::to_string(part.element_columns.count) + " element rows for " +
+                             std::to_string(part.elements.size()) + " elements");
+  const bool faces = part.corners == 3;
+  std::string out = "ply\nformat binary_little_endian 1.0\ncomment written by tear: " +
+                    part.name + "\nelement vertex " + std::to_string(part.vertices.count) +
+                    "\n" + properties(part.vertices);
+  out += std::string("element ") + (faces ? "face " : "edge ") +
+         std::to_string(part.elements.size()) + "\n";
+  out += faces ? "property list uchar int vertex_indices\n"
+               : "property int vertex1\nproperty int vertex2\n";
+  out += properties(part.element_columns) + "end_header\n";
+  const PointTable& v = part.vertices;
+  for (size_t i = 0; i < v.count; ++i)
+    for (size_t c = 0; c < v.names.size(); ++c) put(&out, v.types[c], v.columns[c][i]);
+  const PointTable& e = part.element_columns;
+  for (size_t k = 0; k < part.elements.size(); ++k) {
+    if (faces) out.push_back(char(3));
+    for (int c = 0; c < part.corners; ++c) {
+      const uint32_t index = part.elements[k][size_t(c)];
+      if (index >= v.count)
+        throw std::runtime_error("mesh part '" + part.name + "': element " + std::to_string(k) +
+                                 " uses vertex " + std::to_string(index) + " of " +
+                                 std::to_string(v.count));
+      put(&out, ColumnType::Int32, double(index));
+    }
+    for (size_t c = 0; c < e.names.size(); ++c) put(&out, e.types[c], e.columns[c][k]);
+  }
+  return out;
+}
+
+MeshPart decode_mesh_part_ply(const std::string& bytes) {
+  const PlyHeader h = parse_ply_header(bytes, kContext);
+  if (h.elements.size() != 2 || h.elements[0].name != "vertex" ||
+      (h.elements[1].name != "face" && h.elements[1].name != "edge"))
+    ply_fail(kContext, "expected a vertex element, then a face or an edge element");
+  MeshPart part;
+  part.corners = h.elements[1].name == "face" ? 3 : 2;
+  PlyBody body(bytes, h, kContext);
+  for (int which = 0; which < 2; ++which) {
+    const PlyElement& el = h.elements[size_t(which)];
+    PointTable& t = which == 0 ? part.vertices : part.element_columns;
+    std::vector<int> column_of(el.properties.size(), -1);
+    for (size_t p = 0; p < el.properties.size(); ++p) {
+      const PlyProperty& prop = el.properties[p];
+      if (prop.list || prop.name == "vertex1" || prop.name == "vertex2") continue;
+      column_of[p] = int(t.names.size());
+      t.names.push_back(prop.name);
+      t.types.push_back(column_type(prop.type));
+      t.columns.emplace_back();
+    }
+    t.count = el.count;
+    if (which == 1) part.elements.assign(el.count, {0, 0, 0});
+    PlyPlace at;
+    at.element = &el;
+    for (size_t row = 0; row < el.count; ++row) {
+      at.row = row;
+      for (size_t p = 0; p < el.properties.size(); ++p) {
+        const PlyProperty& prop = el.properties[p];
+        at.property = &prop;
+        if (prop.list) {
+          const double n = body.next(prop.count_type, at);
+          if (n != 3) ply_fail(kContext, "face " + std::to_string(row) + " is not a triangle");
+          for (int c = 0; c < 3; ++c) part.elements[row][size_t(c)] = uint32_t(body.next(prop.type, at));
+          continue;
+        }
+        const double value = body.next(prop.type, at);
+        if (prop.name == "vertex1" || prop.name == "vertex2")
+          part.elements[row][size_t(prop.name[6] - '1')] = uint32_t(value);
+        else
+          t.columns[size_t(column_of[p])].push_back(value);
+      }
+    }
+  }
+  return part;
+}
+
+}  // namespace tear
