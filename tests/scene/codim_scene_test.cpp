@@ -112,6 +112,42 @@ TEST(CodimScene, MeshFilesGiveSurfacesAndCurves) {
   EXPECT_EQ(groups[2].element_vertices[3], (std::array<uint32_t, 3>{5, 6, 6}));  // offset
 }
 
+// Hair on a scalp: every strand rooted on the sphere's cap, straight along the outward normal.
+TEST(CodimScene, StrandsGrowOutOfTheCapOfTheirSphere) {
+  const Vec3d centre(0.5, 0.4, 0.5), up(0, 0, 1);
+  json hair = {{"kind", "curves"}, {"material", "yarn"}, {"radius", 0.0005},
+               {"shape", {{"type", "strands"}, {"center", {0.5, 0.4, 0.5}}, {"radius", 0.1},
+                          {"direction", {0, 0, 1}}, {"cap_angle", 70}, {"count", 200},
+                          {"length", 0.15}, {"segments", 12}}}};
+  const Scene s = parse_scene(codim_scene({hair}), "hair.json");
+  const CodimMesh& m = *s.objects[0].mesh;
+  ASSERT_EQ(m.vertices.size(), 200u * 13u);
+  ASSERT_EQ(m.elements.size(), 200u * 12u);
+  double lowest = 1;
+  for (int k = 0; k < 200; ++k) {
+    const Vec3d root = m.vertices[size_t(k * 13)], tip = m.vertices[size_t(k * 13 + 12)];
+    EXPECT_NEAR((root - centre).norm(), 0.1, 1e-12);
+    EXPECT_NEAR((tip - centre).norm(), 0.25, 1e-12);
+    EXPECT_LT(((tip - root).normalized() - (root - centre).normalized()).norm(), 1e-12);
+    lowest = std::min(lowest, (root - centre).normalized().dot(up));
+    EXPECT_EQ(m.elements[size_t(k * 12)], (std::array<uint32_t, 3>{uint32_t(k * 13), uint32_t(k * 13 + 1), 0}));
+  }
+  // The cap is filled to its rim at 70 degrees from the direction.
+  EXPECT_GT(lowest, std::cos(70 * 3.14159265358979323846 / 180) - 1e-12);
+  EXPECT_LT(lowest, std::cos(65 * 3.14159265358979323846 / 180));
+  // In 2D the roots are spread evenly over the arc.
+  json doc2 = codim_scene({hair}, 2);
+  doc2["objects"][0]["shape"] = {{"type", "strands"}, {"center", {0.5, 0.4}}, {"radius", 0.1},
+                                 {"cap_angle", 90}, {"count", 5}, {"length", 0.15},
+                                 {"segments", 6}};
+  const Scene s2 = parse_scene(doc2, "hair2.json");
+  const CodimMesh& m2 = *s2.objects[0].mesh;
+  ASSERT_EQ(m2.vertices.size(), 35u);
+  EXPECT_NEAR(m2.vertices[0].x(), 0.5 + 0.1, 1e-12);  // -90 degrees from up (+y): along +x
+  EXPECT_NEAR(m2.vertices[14].y(), 0.5, 1e-12);       // the middle strand: straight up
+  EXPECT_NEAR(m2.vertices[28].x(), 0.5 - 0.1, 1e-12);
+}
+
 struct Broken {
   std::string name;
   json doc;
@@ -153,6 +189,10 @@ std::vector<Broken> broken() {
   implicit["integrator"] = "implicit";
   json surface_2d = codim_scene({sheet()}, 2);
   json resolution = codim_scene({sheet({{"resolution", {8, 2.5}}})});
+  json strands = codim_scene({{{"kind", "curves"}, {"material", "yarn"}, {"radius", 0.001},
+                                {"shape", {{"type", "strands"}, {"center", {0.5, 0.4, 0.5}},
+                                           {"radius", 0.1}, {"cap_angle", 0}, {"count", 3},
+                                           {"length", 0.1}, {"segments", 4}}}}});
   json plastic = codim_scene({sheet()});
   plastic["materials"]["cloth"]["plasticity"] = {{"type", "von_mises"}, {"yield_stress", 5}};
   return {
@@ -185,6 +225,7 @@ std::vector<Broken> broken() {
       {"FractionalResolution", resolution,
        "objects[0].shape.resolution[1]: must be a whole number of quads"},
       {"PlasticCloth", plastic, "materials.cloth.plasticity: not for the codimensional model"},
+      {"StrandsOnAPoint", strands, "objects[0].shape.cap_angle: must be > 0 for more than one strand"},
   };
 }
 

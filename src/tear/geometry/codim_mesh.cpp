@@ -50,6 +50,39 @@ CodimMesh make_rope(const Vec3d& from, const Vec3d& to, int segments) {
   return mesh;
 }
 
+CodimMesh make_strands(const Vec3d& center, double radius, const Vec3d& direction, double cap_deg,
+                       int count, double length, int segments, int dim) {
+  constexpr double kPi = 3.14159265358979323846;
+  CodimMesh mesh;
+  mesh.manifold = 1;
+  const Vec3d up = direction.normalized();
+  // Two unit vectors across `up` (2D: the one in the plane).
+  Vec3d side = dim == 2 ? Vec3d(-up.y(), up.x(), 0)
+                        : (std::abs(up.x()) < 0.9 ? Vec3d::UnitX() : Vec3d::UnitY()).cross(up).normalized();
+  const Vec3d other = up.cross(side);
+  const double cap = cap_deg * kPi / 180;
+  const double golden = kPi * (3 - std::sqrt(5.0));
+  for (int k = 0; k < count; ++k) {
+    Vec3d n;
+    if (dim == 2) {
+      const double a = count == 1 ? 0 : -cap + 2 * cap * k / (count - 1);
+      n = std::cos(a) * up + std::sin(a) * side;
+    } else {
+      const double c = 1 - (1 - std::cos(cap)) * (k + 0.5) / count;
+      const double s = std::sqrt(std::max(0.0, 1 - c * c)), phi = golden * k;
+      n = c * up + s * (std::cos(phi) * side + std::sin(phi) * other);
+    }
+    const uint32_t first = uint32_t(mesh.vertices.size());
+    for (int j = 0; j <= segments; ++j)
+      mesh.vertices.push_back(center + (radius + length * j / segments) * n);
+    for (int j = 0; j < segments; ++j)
+      mesh.elements.push_back({first + uint32_t(j), first + uint32_t(j + 1), 0});
+  }
+  if (dim == 2)
+    for (Vec3d& v : mesh.vertices) v.z() = 0;
+  return mesh;
+}
+
 std::string find_mesh_defect(const CodimMesh& mesh, int dim) {
   const char* what = mesh.manifold == 1 ? "segment " : "triangle ";
   const size_t n = mesh.vertices.size(), corners = mesh.corners();

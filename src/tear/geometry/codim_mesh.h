@@ -32,6 +32,14 @@ CodimMesh make_sheet(const Vec3d& center, const double size[2], const int resolu
 // A straight polyline of `segments` equal segments from `from` to `to`.
 CodimMesh make_rope(const Vec3d& from, const Vec3d& to, int segments);
 
+// `count` straight strands of `length` in `segments` segments each, rooted on the cap of the
+// sphere (2D: the arc of the circle) of `radius` about `center` within `cap_deg` degrees of
+// `direction`, each along the outward normal at its root: hair on a scalp. Roots on a
+// golden-angle spiral over the cap (even cover, no randomness); 2D: evenly along the arc.
+// Strand k's vertices are k (segments + 1) .. , root first. `dim` 2 keeps z = 0.
+CodimMesh make_strands(const Vec3d& center, double radius, const Vec3d& direction, double cap_deg,
+                       int count, double length, int segments, int dim);
+
 // Every vertex mapped by fn (a transform).
 template <class Fn>
 void transform_vertices(CodimMesh* mesh, Fn&& fn) {

@@ -71,12 +71,41 @@ json parse_codim_object(const Reader& r, const json& o, const std::string& path,
   if (!sj->is_object()) r.fail(sp, "must be an object, got " + type_desc(*sj));
   const int manifold = surface ? 2 : 1;
   const int type = surface ? r.choice(*sj, sp, "type", {"sheet", "mesh"})
-                           : r.choice(*sj, sp, "type", {"rope", "mesh"});
+                           : r.choice(*sj, sp, "type", {"rope", "mesh", "strands"});
   json shape_out = {{"type", (*sj)["type"]}};
   CodimMesh mesh;
   if (type == 1) {
     r.object(*sj, sp, {"type", "file", "transform"});
     mesh = read_codim_mesh(r, *sj, sp, manifold, &shape_out);
+  } else if (type == 2) {
+    r.object(*sj, sp, {"type", "center", "radius", "direction", "cap_angle", "count", "length",
+                       "segments", "transform"});
+    const Vec3d center = r.vec(*sj, sp, "center");
+    const double radius = r.number(*sj, sp, "radius");
+    r.positive(radius, key_path(sp, "radius"));
+    const Vec3d direction = r.vec(*sj, sp, "direction", Vec3d::UnitY());
+    r.check(direction.norm() > 0, key_path(sp, "direction"), "must be non-zero");
+    const double cap = r.number(*sj, sp, "cap_angle", 60.0);
+    r.check(cap >= 0 && cap <= 180, key_path(sp, "cap_angle"),
+            "must be in [0, 180] degrees, got " + num_str(cap));
+    const long long count = r.integer(*sj, sp, "count");
+    r.check(count >= 1 && count <= 10000000, key_path(sp, "count"),
+            "must be in [1, 10000000], got " + std::to_string(count));
+    const double length = r.number(*sj, sp, "length");
+    r.positive(length, key_path(sp, "length"));
+    const long long segments = r.integer(*sj, sp, "segments");
+    r.check(segments >= 1 && segments <= 100000, key_path(sp, "segments"),
+            "must be in [1, 100000], got " + std::to_string(segments));
+    r.check(count == 1 || cap > 0, key_path(sp, "cap_angle"),
+            "must be > 0 for more than one strand");
+    mesh = make_strands(center, radius, direction, cap, int(count), length, int(segments), r.dim);
+    shape_out["center"] = vec_json(center, r.dim);
+    shape_out["radius"] = radius;
+    shape_out["direction"] = vec_json(direction, r.dim);
+    shape_out["cap_angle"] = cap;
+    shape_out["count"] = count;
+    shape_out["length"] = length;
+    shape_out["segments"] = segments;
   } else if (surface) {
     r.object(*sj, sp, {"type", "center", "size", "resolution", "triangulation", "transform"});
     const Vec3d center = r.vec(*sj, sp, "center");
