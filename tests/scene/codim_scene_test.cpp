@@ -193,6 +193,8 @@ std::vector<Broken> broken() {
                                 {"shape", {{"type", "strands"}, {"center", {0.5, 0.4, 0.5}},
                                            {"radius", 0.1}, {"cap_angle", 0}, {"count", 3},
                                            {"length", 0.1}, {"segments", 4}}}}});
+  json bgeo = codim_scene({sheet()});
+  bgeo["output"] = {{"mesh_formats", {"ply", "bgeo"}}};
   json plastic = codim_scene({sheet()});
   plastic["materials"]["cloth"]["plasticity"] = {{"type", "von_mises"}, {"yield_stress", 5}};
   return {
@@ -225,6 +227,7 @@ std::vector<Broken> broken() {
       {"FractionalResolution", resolution,
        "objects[0].shape.resolution[1]: must be a whole number of quads"},
       {"PlasticCloth", plastic, "materials.cloth.plasticity: not for the codimensional model"},
+      {"MeshFormatBgeo", bgeo, "output.mesh_formats[1]: "},
       {"StrandsOnAPoint", strands, "objects[0].shape.cap_angle: must be > 0 for more than one strand"},
   };
 }

@@ -86,8 +86,9 @@ class StopSignals {
 // more than writing them); with vtu, DIR/frames.pvd lists each frame at its time.
 class FrameWriter {
  public:
-  FrameWriter(std::string dir, std::vector<std::string> formats)
-      : dir_(std::move(dir)), formats_(std::move(formats)) {}
+  FrameWriter(std::string dir, std::vector<std::string> formats,
+              std::vector<std::string> mesh_formats)
+      : dir_(std::move(dir)), formats_(std::move(formats)), mesh_formats_(std::move(mesh_formats)) {}
   // A resumed run: the times of the frames written before (frames.pvd lists them too).
   void resume(std::map<int, double> vtu_times) { vtu_times_ = std::move(vtu_times); }
 
@@ -97,19 +98,23 @@ class FrameWriter {
       encode_points(rows, f, &buffer_, &table_);
       write_file_atomic(frame_path(dir_, frame, f), buffer_);
     }
-    // The codimensional meshes (cloth, yarn, hair), one file per part: PLY whatever the
-    // scene's formats (the other encoders do not hold elements yet).
-    for (const MeshPart& part : sim.frame_meshes())
-      write_file_atomic(mesh_part_path(dir_, frame, part.name, "ply"), encode_mesh_part_ply(part));
+    // The codimensional meshes (cloth, yarn, hair): a file per part and mesh format; with vtu,
+    // DIR/PART.pvd lists them at their times.
+    const std::vector<MeshPart> parts = sim.frame_meshes();
+    vtu_times_[frame] = sim.time();
+    for (const MeshPart& part : parts)
+      for (const std::string& f : mesh_formats_) {
+        write_file_atomic(mesh_part_path(dir_, frame, part.name, f), encode_mesh_part(part, f));
+        if (f == "vtu") write_mesh_part_pvd(dir_, part.name, vtu_times_);
+      }
     if (std::find(formats_.begin(), formats_.end(), "vtu") != formats_.end()) {
-      vtu_times_[frame] = sim.time();
       write_frames_pvd(dir_, vtu_times_);
     }
   }
 
  private:
   std::string dir_;
-  std::vector<std::string> formats_;
+  std::vector<std::string> formats_, mesh_formats_;
   std::map<int, double> vtu_times_;  // the times of the frames written so far
   std::string buffer_;
   PointTable table_;  // for the formats written column by column
@@ -209,6 +214,15 @@ nlohmann::json resume_relevant(nlohmann::json j) {
   if (j.contains("output") && j["output"].is_object()) j["output"].erase("checkpoint_every");
   j.erase("render");
   j.erase("description");
+  // Keys that scenes resolved before they existed lack, at the value that changes nothing: a
+  // run begun then resumes (objects' "kind", the mesh formats).
+  if (j.contains("output") && j["output"].is_object() &&
+      j["output"].value("mesh_formats", nlohmann::json::array({"ply"})) ==
+          nlohmann::json::array({"ply"}))
+    j["output"].erase("mesh_formats");
+  if (j.contains("objects") && j["objects"].is_array())
+    for (nlohmann::json& o : j["objects"])
+      if (o.is_object() && o.value("kind", "volume") == "volume") o.erase("kind");
   return j;
 }
 
@@ -301,7 +315,7 @@ int run_scene(const RunOptions& o) {
     const std::string checkpoint_path = (dir / "checkpoints" / "latest.bin").string();
     const std::string previous_path = (dir / "checkpoints" / "previous.bin").string();
     std::vector<std::string> stats;
-    FrameWriter frames(o.out_dir, scene.formats);
+    FrameWriter frames(o.out_dir, scene.formats, scene.mesh_formats);
 
     const std::string old_scene = (dir / "scene.json").string();
     bool resume = o.resume;
@@ -367,6 +381,7 @@ int run_scene(const RunOptions& o) {
       fs::remove_all(dir / "frames");
       fs::remove_all(dir / "checkpoints");
       fs::remove(dir / "frames.pvd");
+      for (const char* part : {"surfaces.pvd", "curves.pvd"}) fs::remove(dir / part);
       make_directories((dir / "frames").string());
       write_file_atomic((dir / "scene.json").string(), scene.resolved.dump(2) + "\n");
       frames.write(0, *sim);
@@ -582,7 +597,8 @@ int check_scene(const std::string& scene_path, const std::vector<std::string>& o
     std::string encoded;
     for (const std::string& f : s.formats)
       encode_points(sim->frame_rows(), f, &encoded), frame_bytes += encoded.size();
-    for (const MeshPart& part : sim->frame_meshes()) frame_bytes += encode_mesh_part_ply(part).size();
+    for (const MeshPart& part : sim->frame_meshes())
+      for (const std::string& f : s.mesh_formats) frame_bytes += encode_mesh_part(part, f).size();
     const size_t checkpoint = sim->checkpoint().size();
     const size_t checkpoint_max = sim->checkpoint_bytes_max();
     // Frame 0, every output_every-th frame, and the last frame.

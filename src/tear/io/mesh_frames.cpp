@@ -5,7 +5,10 @@
 #include <stdexcept>
 
 #include "tear/io/endian.h"
+#include "tear/io/atomic_file.h"
+#include "tear/io/numbers.h"
 #include "tear/io/ply_header.h"
+#include "tear/io/vtu.h"
 
 namespace tear {
 
@@ -51,7 +54,127 @@ ColumnType column_type(NumberType t) {
 
 }  // namespace
 
-bool is_mesh_part_format(const std::string& format) { return format == "ply"; }
+const std::vector<std::string>& mesh_part_formats() {
+  static const std::vector<std::string> kFormats = {"ply", "obj", "vtu"};
+  return kFormats;
+}
+
+std::string encode_mesh_part(const MeshPart& part, const std::string& format) {
+  if (format == "ply") return encode_mesh_part_ply(part);
+  if (format == "obj") return encode_mesh_part_obj(part);
+  if (format == "vtu") return encode_mesh_part_vtu(part);
+  throw std::runtime_error("mesh parts are written as ply, obj or vtu, not '" + format + "'");
+}
+
+namespace {
+
+// The vertex's position and the part's connectivity checked once for every encoder.
+void check_part(const MeshPart& part) {
+  part.vertices.check_shape();
+  part.element_columns.check_shape();
+  if (part.element_columns.count != part.elements.size())
+    throw std::runtime_error("mesh part '" + part.name + "': " +
+                             std::to_string(part.element_columns.count) + " element rows for " +
+                             std::to_string(part.elements.size()) + " elements");
+  for (size_t k = 0; k < part.elements.size(); ++k)
+    for (int c = 0; c < part.corners; ++c)
+      if (part.elements[k][size_t(c)] >= part.vertices.count)
+        throw std::runtime_error("mesh part '" + part.name + "': element " + std::to_string(k) +
+                                 " uses vertex " + std::to_string(part.elements[k][size_t(c)]) +
+                                 " of " + std::to_string(part.vertices.count));
+}
+
+}  // namespace
+
+std::string encode_mesh_part_obj(const MeshPart& part) {
+  check_part(part);
+  const std::vector<Eigen::Vector3d> x = positions(part.vertices);
+  std::string out = "# written by tear: " + part.name + ", " + std::to_string(x.size()) +
+                    " vertices, " + std::to_string(part.elements.size()) +
+                    (part.corners == 3 ? " triangles\n" : " segments\n");
+  for (const Eigen::Vector3d& p : x)
+    out += "v " + shortest_text(float(p.x())) + " " + shortest_text(float(p.y())) + " " +
+           shortest_text(float(p.z())) + "\n";
+  for (const auto& e : part.elements) {
+    out += part.corners == 3 ? "f" : "l";
+    for (int c = 0; c < part.corners; ++c) out += " " + std::to_string(e[size_t(c)] + 1);
+    out += "\n";
+  }
+  return out;
+}
+
+std::string encode_mesh_part_vtu(const MeshPart& part) {
+  check_part(part);
+  const PointTable& v = part.vertices;
+  const PointTable& e = part.element_columns;
+  const std::vector<Eigen::Vector3d> x = positions(v);
+  auto type_of = [](ColumnType t) {
+    return t == ColumnType::Int32 ? "Int32" : t == ColumnType::UInt8 ? "UInt8"
+                                  : t == ColumnType::Float64         ? "Float64"
+                                                                     : "Float32";
+  };
+  auto values = [](const std::vector<double>& c, bool integer) {
+    std::string s;
+    for (double d : c) s += (integer ? std::to_string(int64_t(d)) : shortest_text(float(d))) + " ";
+    return s;
+  };
+  std::string out =
+      "<?xml version=\"1.0\"?>\n"
+      "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+      "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"" +
+      std::to_string(v.count) + "\" NumberOfCells=\"" + std::to_string(part.elements.size()) +
+      "\">\n      <Points>\n        <DataArray type=\"Float32\" NumberOfComponents=\"3\" "
+      "format=\"ascii\">";
+  for (const Eigen::Vector3d& p : x)
+    out += shortest_text(float(p.x())) + " " + shortest_text(float(p.y())) + " " +
+           shortest_text(float(p.z())) + " ";
+  out += "</DataArray>\n      </Points>\n      <PointData>\n";
+  const bool velocity = v.has("vx") && v.has("vy");
+  if (velocity) {
+    out += "        <DataArray type=\"Float32\" Name=\"velocity\" NumberOfComponents=\"3\" "
+           "format=\"ascii\">";
+    for (size_t i = 0; i < v.count; ++i)
+      out += shortest_text(float(v.column("vx")[i])) + " " + shortest_text(float(v.column("vy")[i])) +
+             " " + shortest_text(float(v.has("vz") ? v.column("vz")[i] : 0.0)) + " ";
+    out += "</DataArray>\n";
+  }
+  for (size_t c = 0; c < v.names.size(); ++c) {
+    const std::string& n = v.names[c];
+    if (n == "x" || n == "y" || n == "z" || (velocity && (n == "vx" || n == "vy" || n == "vz")))
+      continue;
+    const bool integer = v.types[c] == ColumnType::Int32 || v.types[c] == ColumnType::UInt8;
+    out += "        <DataArray type=\"" + std::string(type_of(v.types[c])) + "\" Name=\"" + n +
+           "\" format=\"ascii\">" + values(v.columns[c], integer) + "</DataArray>\n";
+  }
+  out += "      </PointData>\n      <CellData>\n";
+  for (size_t c = 0; c < e.names.size(); ++c) {
+    const bool integer = e.types[c] == ColumnType::Int32 || e.types[c] == ColumnType::UInt8;
+    out += "        <DataArray type=\"" + std::string(type_of(e.types[c])) + "\" Name=\"" +
+           e.names[c] + "\" format=\"ascii\">" + values(e.columns[c], integer) + "</DataArray>\n";
+  }
+  out += "      </CellData>\n      <Cells>\n        <DataArray type=\"Int32\" Name=\"connectivity\" "
+         "format=\"ascii\">";
+  for (const auto& el : part.elements)
+    for (int c = 0; c < part.corners; ++c) out += std::to_string(el[size_t(c)]) + " ";
+  out += "</DataArray>\n        <DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">";
+  for (size_t k = 1; k <= part.elements.size(); ++k) out += std::to_string(k * size_t(part.corners)) + " ";
+  out += "</DataArray>\n        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">";
+  const char* cell = part.corners == 3 ? "5 " : "3 ";  // VTK_TRIANGLE, VTK_LINE
+  for (size_t k = 0; k < part.elements.size(); ++k) out += cell;
+  out += "</DataArray>\n      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
+  return out;
+}
+
+void write_mesh_part_pvd(const std::string& dir, const std::string& part,
+                         const std::map<int, double>& times) {
+  std::vector<PvdEntry> entries;
+  for (const auto& [frame, time] : times) {
+    char name[48];
+    std::snprintf(name, sizeof name, "frames/%05d.", frame);
+    entries.push_back({time, name + part + ".vtu"});
+  }
+  write_file_atomic((std::filesystem::path(dir) / (part + ".pvd")).string(), encode_pvd(entries));
+}
 
 std::string mesh_part_path(const std::string& dir, int frame, const std::string& part,
                            const std::string& format) {
@@ -61,12 +184,7 @@ std::string mesh_part_path(const std::string& dir, int frame, const std::string&
 }
 
 std::string encode_mesh_part_ply(const MeshPart& part) {
-  part.vertices.check_shape();
-  part.element_columns.check_shape();
-  if (part.element_columns.count != part.elements.size())
-    throw std::runtime_error("mesh part '" + part.name + "': " +
-                             std::to_string(part.element_columns.count) + " element rows for " +
-                             std::to_string(part.elements.size()) + " elements");
+  check_part(part);
   const bool faces = part.corners == 3;
   std::string out = "ply\nformat binary_little_endian 1.0\ncomment written by tear: " +
                     part.name + "\nelement vertex " + std::to_string(part.vertices.count) +
@@ -82,14 +200,8 @@ std::string encode_mesh_part_ply(const MeshPart& part) {
   const PointTable& e = part.element_columns;
   for (size_t k = 0; k < part.elements.size(); ++k) {
     if (faces) out.push_back(char(3));
-    for (int c = 0; c < part.corners; ++c) {
-      const uint32_t index = part.elements[k][size_t(c)];
-      if (index >= v.count)
-        throw std::runtime_error("mesh part '" + part.name + "': element " + std::to_string(k) +
-                                 " uses vertex " + std::to_string(index) + " of " +
-                                 std::to_string(v.count));
-      put(&out, ColumnType::Int32, double(index));
-    }
+    for (int c = 0; c < part.corners; ++c)
+      put(&out, ColumnType::Int32, double(part.elements[k][size_t(c)]));
     for (size_t c = 0; c < e.names.size(); ++c) put(&out, e.types[c], e.columns[c][k]);
   }
   return out;

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -20,8 +21,10 @@ struct MeshPart {
   PointTable element_columns;  // one row per element: id, contact, ...
 };
 
-// The formats a mesh part is written in (a subset of the scene's output.formats): "ply".
-bool is_mesh_part_format(const std::string& format);
+// The formats a mesh part can be written in (scene output.mesh_formats): "ply", "obj", "vtu".
+const std::vector<std::string>& mesh_part_formats();
+// The part encoded in `format` (one of mesh_part_formats()).
+std::string encode_mesh_part(const MeshPart& part, const std::string& format);
 // DIR/frames/NNNNN.PART.EXT.
 std::string mesh_part_path(const std::string& dir, int frame, const std::string& part,
                            const std::string& format);
@@ -29,6 +32,17 @@ std::string mesh_part_path(const std::string& dir, int frame, const std::string&
 // int vertex_indices, then the element columns) for triangles or element edge (int vertex1,
 // int vertex2, then the element columns) for segments.
 std::string encode_mesh_part_ply(const MeshPart& part);
+// Wavefront OBJ: "v x y z" per vertex, then "f a b c" per triangle or "l a b" per segment
+// (1-based); OBJ has no place for the other columns.
+std::string encode_mesh_part_obj(const MeshPart& part);
+// VTK XML unstructured grid (ascii): the vertices as Points with their other columns as
+// PointData (vx vy vz as "velocity"), triangles (VTK_TRIANGLE) or segments (VTK_LINE) as cells
+// with the element columns as CellData.
+std::string encode_mesh_part_vtu(const MeshPart& part);
+// DIR/PART.pvd: a ParaView collection of DIR/frames/NNNNN.PART.vtu at the given frame times.
+void write_mesh_part_pvd(const std::string& dir, const std::string& part,
+                         const std::map<int, double>& times);
+
 // The inverse, for tests and tools: the vertex and element tables and the connectivity.
 MeshPart decode_mesh_part_ply(const std::string& bytes);
 

@@ -4,6 +4,7 @@
 #include "tear/scene/scene.h"
 
 #include "tear/io/frames.h"
+#include "tear/io/mesh_frames.h"
 #include "tear/particles/particles.h"
 #include "tear/scene/scene_parts.h"
 
@@ -228,7 +229,7 @@ json parse_output(const Reader& r, const json& doc, Scene* s) {
   static const json kEmpty = json::object();
   const json* o = r.find(doc, "output");
   if (!o) o = &kEmpty;
-  r.object(*o, "output", {"every", "formats", "checkpoint_every", "fields"});
+  r.object(*o, "output", {"every", "formats", "mesh_formats", "checkpoint_every", "fields"});
   long long every = r.integer(*o, "output", "every", 1);
   r.check(every >= 1 && every <= 1000000000, "output.every",
           "must be >= 1, got " + std::to_string(every));
@@ -243,12 +244,19 @@ json parse_output(const Reader& r, const json& doc, Scene* s) {
     // Frames are always written; an empty list would be silently ignored.
     r.check(!s->formats.empty(), "output.formats", "must name at least one format (ply)");
   }
+  s->mesh_formats = {"ply"};
+  if (const json* f = r.find(*o, "mesh_formats")) {
+    s->mesh_formats = distinct_names(r, *f, "output.mesh_formats", mesh_part_formats(), "format");
+    r.check(!s->mesh_formats.empty(), "output.mesh_formats",
+            "must name at least one format (ply)");
+  }
   s->output_fields.clear();
   if (const json* f = r.find(*o, "fields"))
     s->output_fields =
         distinct_names(r, *f, "output.fields", Particles<3>().requestable_columns(), "field");
   return {{"every", s->output_every},
           {"formats", s->formats},
+          {"mesh_formats", s->mesh_formats},
           {"checkpoint_every", s->checkpoint_every},
           {"fields", s->output_fields}};
 }

@@ -151,6 +151,8 @@ struct Scene {
   // output
   int output_every = 1;
   std::vector<std::string> formats{"ply"};
+  // The formats of the codimensional meshes' files (io/mesh_frames.h): ply, obj, vtu.
+  std::vector<std::string> mesh_formats{"ply"};
   int checkpoint_every = 10;
   // Optional frame columns to write (Particles::optional_columns()): driving_force,
   // damage_laplacian.
