@@ -303,6 +303,13 @@ int main(int argc, char** argv) {
                   << steps << " steps, " << t << " thread(s)...\n";
         out["damage"] = tear::bench_damage(particles, steps, t);
       }
+      {
+        const int t = thread_counts.back();
+        const long cloth = quick ? 15000 : 150000;
+        std::cerr << "cloth and hair (" << cloth << " sheet particles, 10000 hair segments) "
+                  << "beside solids: " << steps << " steps, " << t << " thread(s)...\n";
+        out["codim"] = tear::bench_codim(cloth, steps, t);
+      }
       std::cout << out.dump(2) << std::endl;
       return 0;
     } catch (const std::exception& e) {

@@ -104,30 +104,53 @@ void codim_vertex_forces(const std::vector<MaterialParams>& materials,
     const int gamma = element_dimension(el.kind);
     if (gamma == 0) continue;
     Particles<Dim>& vx = (*groups)[size_t(el.vertex_group)];
-    // The elements' stresses in parallel, then the vertices' sums in element order.
+    // The elements' stresses and their corners' shares of the normal stress, in parallel.
+    const Real share = Real(1) / Real(gamma + 1);
     parallel_for(el.size(), [&](size_t e) {
       const MaterialParams& m = materials[el.material[e]];
       el.stress[e] = el.vol0[e] * first_piola<Dim>(m, el.F[e], Mat<Dim>::Identity());
+      el.normal_stress[e] = share * element_normal_stress(el, e);
     });
-    std::fill(vx.force.begin(), vx.force.end(), Vec<Dim>::Zero());
-    std::fill(vx.stress.begin(), vx.stress.end(), Mat<Dim>::Zero());
-    const Real share = Real(1) / Real(gamma + 1);
-    for (size_t e = 0; e < el.size(); ++e) {
-      const std::array<uint32_t, 3>& c = el.element_vertices[e];
-      const Mat<Dim>& VP = el.stress[e];
-      const Mat<Dim>& Dinv = el.rest_inverse[e];
-      Vec<Dim> sum = Vec<Dim>::Zero();
-      for (int b = 0; b < gamma; ++b) {
-        // Column b of -VP_t Dm^-T: -sum_eps VP(:, eps) Dinv(b, eps), eps over the tangents.
-        Vec<Dim> f = -VP.col(0) * Dinv(b, 0);
-        for (int eps = 1; eps < gamma; ++eps) f -= VP.col(eps) * Dinv(b, eps);
-        vx.force[c[size_t(b) + 1]] += f;
-        sum += f;
-      }
-      vx.force[c[0]] -= sum;
-      const Mat<Dim> tau = share * element_normal_stress(el, e);
-      for (int k = 0; k <= gamma; ++k) vx.stress[c[size_t(k)]] += tau;
+    // Each vertex sums over its elements in element order (a fixed order: the same bits for
+    // any thread count), in parallel over vertices through the incidence list.
+    const size_t corners = size_t(gamma + 1);
+    if (vx.incident_begin.size() != vx.size() + 1 || vx.incident.size() != el.size() * corners) {
+      vx.incident_begin.assign(vx.size() + 1, 0);
+      for (size_t e = 0; e < el.size(); ++e)
+        for (size_t k = 0; k < corners; ++k) ++vx.incident_begin[el.element_vertices[e][k] + 1];
+      for (size_t v = 0; v < vx.size(); ++v) vx.incident_begin[v + 1] += vx.incident_begin[v];
+      vx.incident.resize(el.size() * corners);
+      std::vector<uint32_t> cursor(vx.incident_begin.begin(), vx.incident_begin.end() - 1);
+      for (size_t e = 0; e < el.size(); ++e)
+        for (size_t k = 0; k < corners; ++k)
+          vx.incident[cursor[el.element_vertices[e][k]]++] = uint32_t(e * corners + k);
     }
+    parallel_for(vx.size(), [&](size_t v) {
+      Vec<Dim> force = Vec<Dim>::Zero();
+      Mat<Dim> stress = Mat<Dim>::Zero();
+      for (uint32_t k = vx.incident_begin[v]; k < vx.incident_begin[v + 1]; ++k) {
+        const size_t e = vx.incident[k] / corners, corner = vx.incident[k] % corners;
+        const Mat<Dim>& VP = el.stress[e];
+        const Mat<Dim>& Dinv = el.rest_inverse[e];
+        // Column b of -VP_t Dm^-T, -sum_eps VP(:, eps) Dinv(b, eps) (eps over the tangents),
+        // on tangent corner b + 1; corner 0 takes minus their sum.
+        auto tangent_force = [&](int b) {
+          Vec<Dim> f = -VP.col(0) * Dinv(b, 0);
+          for (int eps = 1; eps < gamma; ++eps) f -= VP.col(eps) * Dinv(b, eps);
+          return f;
+        };
+        if (corner == 0) {
+          Vec<Dim> sum = tangent_force(0);
+          for (int b = 1; b < gamma; ++b) sum += tangent_force(b);
+          force -= sum;
+        } else {
+          force += tangent_force(int(corner) - 1);
+        }
+        stress += el.normal_stress[e];
+      }
+      vx.force[v] = force;
+      vx.stress[v] = stress;
+    });
   }
 }
 

@@ -5,6 +5,12 @@
 #include "tear/mpm/time_step.h"
 #include "tear/scene/sampling.h"
 
+#include <cstdio>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
 #include "tear/exec/threads.h"
 
 #include <chrono>
@@ -21,7 +27,7 @@ double since(Clock::time_point t0) {
 // The benchmark block's settings and state, stepped by the explicit integrator.
 struct BenchRun {
   explicit BenchRun(const Scene& s)
-      : settings(mpm_settings(s)), state(make_mpm_state<3>(settings, sample_scene<3>(s))) {}
+      : settings(mpm_settings(s)), state(make_mpm_state<3>(settings, sample_scene_groups<3>(s))) {}
   double estimate_dt() const { return dt_limits(settings, state, domain).dt(); }
   void step(double dt) { explicit_step(settings, &state, dt, &record, domain); }
   MpmSettings settings;
@@ -161,6 +167,63 @@ nlohmann::json bench_damage(long particles, int steps, int threads) {
     }
     out[names[k]] = r;
   }
+  return out;
+}
+
+nlohmann::json bench_codim(long particles, int steps, int threads) {
+  const ThreadLimit limit(threads);
+  // A sheet of n x n quads (2 n^2 triangles, (n + 1)^2 vertices: about `particles` in all) and
+  // hair of 10 000 segments (500 strands of 20) falling under gravity, each with 2 vertices a
+  // cell along it, each beside the bench block of as many particles.
+  const int n = std::max(2, int(std::lround(std::sqrt(double(particles) / 3))));
+  const double dx = 0.8 / (n / 2.0);
+  auto scene_of = [&](const std::string& object, double dx) {
+    char text[2048];
+    std::snprintf(text, sizeof text, R"({
+      "dim": 3, "grid": {"dx": %.17g, "domain_min": [0, 0, 0], "domain_max": [1, 1, 1]},
+      "time": {"frame_dt": 0.01, "frames": 1, "max_dt": 1e-3}, "gravity": [0, -9.8, 0],
+      "materials": {"cloth": {"model": "surface_qr", "E": 1e4, "nu": 0.3, "rho": 200},
+                    "hair": {"model": "curve_qr", "E": 1e5, "nu": 0.3, "rho": 1300}},
+      "objects": [%s]})", dx, object.c_str());
+    return parse_scene(nlohmann::json::parse(text), "bench_codim");
+  };
+  char sheet[512];
+  std::snprintf(sheet, sizeof sheet, R"({"kind": "surface", "material": "cloth", "thickness": 0.001,
+    "shape": {"type": "sheet", "center": [0.5, 0.6, 0.5], "size": [0.8, 0.8], "resolution": [%d, %d],
+              "triangulation": "random"}})", n, n);
+  const std::string hair = R"({"kind": "curves", "material": "hair", "radius": 0.0005,
+    "shape": {"type": "strands", "center": [0.5, 0.5, 0.5], "radius": 0.15, "cap_angle": 80,
+              "count": 500, "length": 0.25, "segments": 20}})";
+  nlohmann::json out = {{"threads", threads}, {"steps", steps}};
+  auto time_run = [&](const Scene& sc) {
+    BenchRun sim(sc);
+    const double dt = sim.estimate_dt();
+    sim.step(dt);
+    const PhaseTimes before = sim.record.times;
+    const auto t0 = Clock::now();
+    for (int i = 0; i < steps; ++i) sim.step(dt);
+    const double per_step = since(t0) / steps;
+    const PhaseTimes& after = sim.record.times;
+    return nlohmann::json{{"particles", sim.state.num_particles()},
+                          {"s_per_step", per_step},
+                          {"phase_s_per_step",
+                           {{"sort", (after.sort - before.sort) / steps},
+                            {"codim", (after.codim - before.codim) / steps},
+                            {"p2g", (after.p2g - before.p2g) / steps},
+                            {"grid", (after.grid - before.grid) / steps},
+                            {"g2p", (after.g2p - before.g2p) / steps}}}};
+  };
+  // The hair's grid: 2 vertices a cell along a strand (12.5 mm segments).
+  for (const auto& [name, object, cell] : std::vector<std::tuple<std::string, std::string, double>>{
+           {"sheet", sheet, dx}, {"hair", hair, 0.025}}) {
+    nlohmann::json r = time_run(scene_of(object, cell));
+    const long count = r["particles"].get<long>();
+    r["solid_beside"] = time_run(bench_block_scene(count));
+    r["cost_vs_solid"] = r["s_per_step"].get<double>() / r["solid_beside"]["s_per_step"].get<double>();
+    out[name] = r;
+  }
+  out["sheet"]["triangles"] = 2 * n * n;
+  out["hair"]["segments"] = 10000;
   return out;
 }
 

@@ -20,4 +20,10 @@ nlohmann::json bench_step(long particles, int steps, int threads);
 // implicit CG iterations per solve.
 nlohmann::json bench_damage(long particles, int steps, int threads);
 
+// Cost per step of cloth and hair (Jiang et al. 2017), each next to the bench block of as many
+// particles: a sheet of about `particles` vertex and element particles (2 vertices a cell
+// along it; 100K triangles for 150000) and hair of 10 000 segments, falling; seconds per step
+// and per phase, and the ratio to the solid.
+nlohmann::json bench_codim(long particles, int steps, int threads);
+
 }  // namespace tear

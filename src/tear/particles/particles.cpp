@@ -19,6 +19,7 @@ Particles<Dim>::Particles(GroupKind group_kind) : kind(group_kind) {
     enable("contact");
     enable("stress");  // the element's V P, for its vertices' forces and P2G
     enable("normal_stretch");
+    enable("normal_stress");
   }
 }
 

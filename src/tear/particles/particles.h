@@ -105,6 +105,8 @@ struct Particles : FieldRegistry {
   Field<uint8_t> contact{this, optional_state_field("contact", {{"contact"}, ColumnType::UInt8}),
                          0};
   Field<V> force{this, optional_scratch_field("force"), V::Zero()};
+  // Element groups: each corner's share of the element's normal-column stress (codim/).
+  Field<M> normal_stress{this, optional_scratch_field("normal_stress"), M::Zero()};
   // Element groups' frame column: how far the normal is from rest, r33 of F = Q R for a surface
   // (1 apart, < 1 pressed against a layer, < 0 inverted), the cross-section's area r22 r33 (3D)
   // or r22 (2D) for a curve.
@@ -116,6 +118,12 @@ struct Particles : FieldRegistry {
   explicit Particles(GroupKind group_kind);
 
   bool codimensional() const { return kind != GroupKind::Volumetric; }
+
+  // Mesh vertices: the (element, corner) pairs of each vertex, element * corners + corner, for
+  // vertex v at incident[incident_begin[v] .. incident_begin[v + 1]), in element order. Derived
+  // from the element group's element_vertices by codim_vertex_forces (rebuilt where the sizes
+  // do not match); not state, not a field.
+  std::vector<uint32_t> incident_begin, incident;
 
   // The optional frame columns a run may ask for (scene output.fields): the solids' ones. The
   // element groups' own (contact, normal_stretch) are written in every frame's mesh parts.
