@@ -187,6 +187,7 @@ std::vector<Broken> broken() {
   damage["damage"] = {{"solver", "explicit"}};
   json implicit = codim_scene({sheet()});
   implicit["integrator"] = "implicit";
+  implicit["implicit"] = {{"preconditioner", "multigrid"}};
   json surface_2d = codim_scene({sheet()}, 2);
   json resolution = codim_scene({sheet({{"resolution", {8, 2.5}}})});
   json strands = codim_scene({{{"kind", "curves"}, {"material", "yarn"}, {"radius", 0.001},
@@ -221,8 +222,8 @@ std::vector<Broken> broken() {
        "materials.jelly.friction: only for the codimensional models"},
       {"FrictionTwice", both, "materials.cloth.friction_angle: give \"friction\""},
       {"WithDamage", damage, "damage.solver: damage does not run beside codimensional objects"},
-      {"WithTheImplicitIntegrator", implicit,
-       "integrator: \"implicit\" does not take codimensional objects yet"},
+      {"WithMultigrid", implicit,
+       "implicit.preconditioner: \"multigrid\" does not take codimensional objects"},
       {"SurfaceIn2D", surface_2d, "objects[0].kind: a \"surface\" needs a 3D scene"},
       {"FractionalResolution", resolution,
        "objects[0].shape.resolution[1]: must be a whole number of quads"},

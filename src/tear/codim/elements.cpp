@@ -1,5 +1,7 @@
 #include "tear/codim/elements.h"
 
+#include "tear/codim/bending.h"
+
 #include "tear/exec/parallel.h"
 
 #include <Eigen/Geometry>
@@ -151,6 +153,8 @@ void codim_vertex_forces(const std::vector<MaterialParams>& materials,
       vx.force[v] = force;
       vx.stress[v] = stress;
     });
+    build_hinges(materials, vx, &el);
+    if (el.hinges.size() > 0) add_bending_forces(el, &vx);
   }
 }
 

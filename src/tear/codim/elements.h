@@ -56,7 +56,8 @@ void append_codim_body(const CodimMesh& mesh, const CodimBody& body, Particles<D
 // of the mass, at the price of exact conservation. At the vertices every node that receives the
 // term has the vertex's own share of mass there, as for a solid's particle, and momentum and
 // angular momentum stay exact (tau = VP F^T is symmetric). Each vertex sums its elements in
-// element order (the same bits for any thread count). For every element group of `groups`.
+// element order (the same bits for any thread count), then, where the material bends, its
+// hinges' forces (codim/bending.h). For every element group of `groups`.
 template <int Dim>
 void codim_vertex_forces(const std::vector<MaterialParams>& materials,
                          std::vector<Particles<Dim>>* groups);

@@ -39,6 +39,8 @@ struct MaterialParams {
   Real mu = 0, lambda = 0;
   Real kx = 0, ky = 0;
   Real normal_stiffness = 0, shear_stiffness = 0, friction = 0;
+  // Codimensional models: the modulus of the optional bending energy (codim/bending.h), 0 off.
+  Real bending_modulus = 0;
 };
 
 // Lame parameters of linear elasticity.

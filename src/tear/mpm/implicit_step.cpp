@@ -10,9 +10,37 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace tear {
+
+namespace {
+
+// An element's tangent coefficients at its corner c: the tangent columns of F change by
+// sum_c u_c t_c^T for corner displacements u_c (t_c = row c - 1 of D^-1's tangent block for
+// c >= 1, corner 0 minus their sum; normal entries zero).
+template <int Dim>
+Vec<Dim> tangent_coefficients(const Mat<Dim>& rest_inverse, int gamma, int c) {
+  Vec<Dim> t = Vec<Dim>::Zero();
+  if (c > 0) {
+    for (int j = 0; j < gamma; ++j) t[j] = rest_inverse(c - 1, j);
+    return t;
+  }
+  for (int b = 0; b < gamma; ++b)
+    for (int j = 0; j < gamma; ++j) t[j] -= rest_inverse(b, j);
+  return t;
+}
+
+// F's normal columns, the tangent ones zero.
+template <int Dim>
+Mat<Dim> normal_columns(const Mat<Dim>& F, int gamma) {
+  Mat<Dim> N = F;
+  for (int j = 0; j < gamma; ++j) N.col(j).setZero();
+  return N;
+}
+
+}  // namespace
 
 template <int Dim>
 IncrementalPotential<Dim>::IncrementalPotential(const MpmSettings& settings,
@@ -21,12 +49,33 @@ IncrementalPotential<Dim>::IncrementalPotential(const MpmSettings& settings,
       use_multigrid_(settings.implicit_preconditioner == ImplicitPreconditioner::Multigrid ||
                      (settings.implicit_preconditioner == ImplicitPreconditioner::Auto &&
                       state.implicit_multigrid)) {
+  codim_ = state.has_codim();
   const SparseGrid<Dim>& grid = state.grid;
+  codim_begin_ = std::numeric_limits<size_t>::max();
   for (size_t g = 0; g < state.groups.size(); ++g) {
     group_offset_.push_back(refs_.size());
-    for (size_t i = 0; i < state.groups[g].size(); ++i) refs_.push_back({uint32_t(g), uint32_t(i)});
+    const GroupKind kind = state.groups[g].kind;
+    if (kind != GroupKind::Volumetric) codim_begin_ = std::min(codim_begin_, refs_.size());
+    for (size_t i = 0; i < state.groups[g].size(); ++i) {
+      if (element_dimension(kind) > 0) elements_.push_back(refs_.size());
+      refs_.push_back({uint32_t(g), uint32_t(i)});
+    }
   }
   const size_t np = refs_.size();
+  if (codim_) {
+    use_multigrid_ = false;  // see can_strengthen_preconditioner
+    const size_t nc = np - codim_begin_;
+    weights_.resize(nc);
+    vertex_u_.resize(nc);
+    vertex_f_.resize(nc);
+    vertex_G_.resize(nc);
+    vertex_S_.resize(nc);
+    element_load_.resize(nc);
+    vertex_x_.resize(nc);
+    hinge_hessian_.resize(state.groups.size());
+  } else {
+    codim_begin_ = np;
+  }
   nodes_.resize(np);
   grads_.resize(np);
   F_.resize(np);
@@ -46,12 +95,15 @@ IncrementalPotential<Dim>::IncrementalPotential(const MpmSettings& settings,
       for (uint32_t k = h.begin; k < h.end; ++k) {
         const uint32_t i = bins.order[k];
         const size_t flat = group_offset_[g] + i;
-        const Mat<Dim> Ft = p.F[i].transpose();
+        // A mesh vertex's F is not a deformation (the identity): its plain weight gradients.
+        const bool vertex = p.kind == GroupKind::MeshVertices;
+        const Mat<Dim> Ft = vertex ? Mat<Dim>::Identity() : Mat<Dim>(p.F[i].transpose());
         int s = 0;
         WindowStencil<Dim, kTransferOrder>(window, p.x[i]).visit(
             [&](int wn, Real w, const Vec<Dim>& rel) {
               nodes_[flat][size_t(s)] = storage[size_t(wn)];
               grads_[flat][size_t(s)] = Ft * (w * inv_d * rel);
+              if (vertex) weights_[flat - codim_begin_][size_t(s)] = w;
               ++s;
             });
       }
@@ -93,9 +145,120 @@ Real IncrementalPotential<Dim>::degradation_of(const ParticleRef& r) const {
 }
 
 template <int Dim>
+void IncrementalPotential<Dim>::gather_vertices(const std::vector<Real>& u) const {
+  parallel_for(refs_.size() - codim_begin_, [&](size_t c) {
+    const size_t k = codim_begin_ + c;
+    if (!is_kind(k, GroupKind::MeshVertices)) return;
+    Vec<Dim> value = Vec<Dim>::Zero();
+    Mat<Dim> gradient = Mat<Dim>::Zero();
+    for (int s = 0; s < kStencil; ++s) {
+      const Eigen::Map<const Vec<Dim>> un(&u[size_t(nodes_[k][size_t(s)]) * Dim]);
+      value += weights_[c][size_t(s)] * un;
+      gradient += un * grads_[k][size_t(s)].transpose();
+    }
+    vertex_u_[c] = value;
+    vertex_G_[c] = gradient;
+  });
+}
+
+template <int Dim>
+void IncrementalPotential<Dim>::load_hinges(bool hessian) const {
+  for (size_t g = 0; g < state_.groups.size(); ++g) {
+    const Particles<Dim>& el = state_.groups[g];
+    if (element_dimension(el.kind) == 0 || el.hinges.size() == 0) continue;
+    const auto& H = el.hinges;
+    const size_t first = group_offset_[size_t(el.vertex_group)] - codim_begin_;
+    const int corners = element_dimension(el.kind) == 1 ? 3 : 4;
+    hinge_load_.resize(H.size());
+    parallel_for(H.size(), [&](size_t h) {
+      std::array<Vec<Dim>, 4>& out = hinge_load_[h];
+      if (!hessian) return hinge_gradient(el, h, &vertex_x_[first], &out);
+      Eigen::Matrix<Real, 4 * Dim, 1> u = Eigen::Matrix<Real, 4 * Dim, 1>::Zero();
+      for (int j = 0; j < corners; ++j)
+        u.template segment<Dim>(j * Dim) = dt_ * vertex_u_[first + H.vertex[h][size_t(j)]];
+      const Eigen::Matrix<Real, 4 * Dim, 1> y = hinge_hessian_[g][h] * u;
+      for (int j = 0; j < 4; ++j) out[size_t(j)] = y.template segment<Dim>(j * Dim);
+    });
+    const size_t nv = state_.groups[size_t(el.vertex_group)].size();
+    parallel_for(nv, [&](size_t v) {
+      Vec<Dim> f = Vec<Dim>::Zero();
+      for (uint32_t q = H.begin[v]; q < H.begin[v + 1]; ++q) f += hinge_load_[H.incident[q] / 4][H.incident[q] % 4];
+      vertex_f_[first + v] += f;
+    });
+  }
+}
+
+template <int Dim>
+Mat<Dim> IncrementalPotential<Dim>::element_rate(size_t k) const {
+  const Particles<Dim>& el = state_.groups[refs_[k].group];
+  const size_t i = refs_[k].index;
+  const int gamma = element_dimension(el.kind);
+  const size_t first = group_offset_[size_t(el.vertex_group)] - codim_begin_;
+  Mat<Dim> rate = Mat<Dim>::Zero(), G = Mat<Dim>::Zero();
+  for (int c = 0; c <= gamma; ++c) {
+    const size_t vc = first + el.element_vertices[i][size_t(c)];
+    rate += vertex_u_[vc] * tangent_coefficients<Dim>(el.rest_inverse[i], gamma, c).transpose();
+    G += vertex_G_[vc];
+  }
+  return rate + (G / Real(gamma + 1)) * normal_columns<Dim>(el.F[i], gamma);
+}
+
+template <int Dim>
+void IncrementalPotential<Dim>::load_vertices() const {
+  for (const Particles<Dim>& el : state_.groups) {
+    const int gamma = element_dimension(el.kind);
+    if (gamma == 0) continue;
+    const size_t vg = size_t(el.vertex_group);
+    const Particles<Dim>& vx = state_.groups[vg];
+    const size_t corners = size_t(gamma + 1);
+    if (vx.incident_begin.size() != vx.size() + 1)
+      throw std::logic_error("implicit step: the vertices' incidence lists are not built");
+    const size_t first = group_offset_[vg] - codim_begin_;
+    const size_t elements = group_offset_[size_t(&el - state_.groups.data())] - codim_begin_;
+    const Real share = Real(1) / Real(gamma + 1);
+    parallel_for(vx.size(), [&](size_t v) {
+      Vec<Dim> f = Vec<Dim>::Zero();
+      Mat<Dim> S = Mat<Dim>::Zero();
+      for (uint32_t q = vx.incident_begin[v]; q < vx.incident_begin[v + 1]; ++q) {
+        const size_t e = vx.incident[q] / corners, corner = vx.incident[q] % corners;
+        const Mat<Dim>& L = element_load_[elements + e];
+        f += L * tangent_coefficients<Dim>(el.rest_inverse[e], gamma, int(corner));
+        S += share * (L * normal_columns<Dim>(el.F[e], gamma).transpose());
+      }
+      vertex_f_[first + v] = f;
+      vertex_S_[first + v] = S;
+    });
+  }
+}
+
+template <int Dim>
+void IncrementalPotential<Dim>::scatter_vertex(size_t k, std::vector<Real>& out) const {
+  const size_t c = k - codim_begin_;
+  const Vec<Dim> f = dt_ * vertex_f_[c];
+  const Mat<Dim> S = dt_ * vertex_S_[c];
+  for (int s = 0; s < kStencil; ++s) {
+    Eigen::Map<Vec<Dim>> on(&out[size_t(nodes_[k][size_t(s)]) * Dim]);
+    on += weights_[c][size_t(s)] * f + S * grads_[k][size_t(s)];
+  }
+}
+
+template <int Dim>
 void IncrementalPotential<Dim>::deformations(const std::vector<Real>& v) {
+  if (codim_) {
+    gather_vertices(v);
+    parallel_for(refs_.size() - codim_begin_, [&](size_t c) {
+      const size_t k = codim_begin_ + c;
+      if (is_kind(k, GroupKind::MeshVertices))
+        vertex_x_[c] = state_.groups[refs_[k].group].x[refs_[k].index] + dt_ * vertex_u_[c];
+    });
+    parallel_for(elements_.size(), [&](size_t q) {
+      const size_t k = elements_[q];
+      F_[k] = state_.groups[refs_[k].group].F[refs_[k].index] + dt_ * element_rate(k);
+    });
+  }
   parallel_for(refs_.size(), [&](size_t k) {
     const ParticleRef& r = refs_[k];
+    if (!is_kind(k, GroupKind::Volumetric)) return;
     Mat<Dim> B = Mat<Dim>::Zero();
     for (int s = 0; s < kStencil; ++s) {
       const Real* vn = &v[size_t(nodes_[k][size_t(s)]) * Dim];
@@ -130,11 +293,20 @@ double IncrementalPotential<Dim>::energy(const std::vector<Real>& v) {
   });
   const double elastic = deterministic_sum<double>(refs_.size(), [&](size_t k) {
     const Particles<Dim>& p = state_.groups[refs_[k].group];
+    if (p.kind == GroupKind::MeshVertices) return 0.0;  // no volume: their elements' energy
     const size_t i = refs_[k].index;
     const MaterialParams& m = settings_.materials[p.material[i]];
     return double(p.vol0[i]) * double(energy_density<Dim>(m, F_[k], p.fiber_of(i), degradation_[k]));
   });
-  return kinetic + elastic;
+  double bending = 0;
+  for (const Particles<Dim>& el : state_.groups) {
+    if (element_dimension(el.kind) == 0 || el.hinges.size() == 0) continue;
+    const Vec<Dim>* x = &vertex_x_[group_offset_[size_t(el.vertex_group)] - codim_begin_];
+    bending += deterministic_sum<double>(el.hinges.size(), [&](size_t h) {
+      return double(hinge_energy(el, h, x));
+    });
+  }
+  return kinetic + elastic + bending;
 }
 
 template <int Dim>
@@ -144,7 +316,19 @@ void IncrementalPotential<Dim>::gradient(const std::vector<Real>& v, std::vector
     for (int a = 0; a < Dim; ++a)
       g[node * Dim + a] = mass_[node] * (v[node * Dim + a] - v_star_[node * Dim + a]);
   });
+  if (codim_) {
+    parallel_for(elements_.size(), [&](size_t q) {
+      const size_t k = elements_[q];
+      const Particles<Dim>& el = state_.groups[refs_[k].group];
+      const size_t i = refs_[k].index;
+      element_load_[k - codim_begin_] =
+          el.vol0[i] * first_piola<Dim>(settings_.materials[el.material[i]], F_[k], Mat<Dim>::Identity());
+    });
+    load_vertices();
+    load_hinges(false);
+  }
   scatter([&](size_t k) {
+    if (is_kind(k, GroupKind::MeshVertices)) return scatter_vertex(k, g);
     const Particles<Dim>& p = state_.groups[refs_[k].group];
     const size_t i = refs_[k].index;
     const MaterialParams& m = settings_.materials[p.material[i]];
@@ -184,16 +368,66 @@ void IncrementalPotential<Dim>::prepare_hessian(const std::vector<Real>& v) {
   hessian_.resize(refs_.size());
   parallel_for(refs_.size(), [&](size_t k) {
     const Particles<Dim>& p = state_.groups[refs_[k].group];
+    if (p.kind == GroupKind::MeshVertices) return;
     const size_t i = refs_[k].index;
     const MaterialParams& m = settings_.materials[p.material[i]];
     hessian_[k] =
         p.vol0[i] * projected_stress_derivative<Dim>(m, F_[k], p.fiber_of(i), degradation_[k]);
   });
+  for (size_t g = 0; g < hinge_hessian_.size(); ++g) {
+    const Particles<Dim>& el = state_.groups[g];
+    hinge_hessian_[g].resize(el.hinges.size());
+    if (el.hinges.size() == 0) continue;
+    const Vec<Dim>* x = &vertex_x_[group_offset_[size_t(el.vertex_group)] - codim_begin_];
+    parallel_for(el.hinges.size(), [&](size_t h) { hinge_hessian_[g][h] = hinge_hessian(el, h, x, true); });
+  }
   // The Jacobi diagonal: m_i + dt^2 sum_p u^T A_p(a) u for each component a of node i, where
   // u = F^T grad w and A_p(a) the block of the particle's matrix that e_a u^T meets.
   diag_.assign(mass_.size() * Dim, 0);
   const Real dt2 = dt_ * dt_;
+  // A vertex's stencil nodes: the same sum for each incident element, with u = w t_c +
+  // N^T grad w / (gamma + 1) its corner's coefficients (the other corners' cross terms left
+  // out: a preconditioner's approximation).
+  auto vertex_diagonal = [&](size_t k) {
+    const Particles<Dim>& vx = state_.groups[refs_[k].group];
+    const size_t v = refs_[k].index;
+    const size_t c = k - codim_begin_;
+    for (const Particles<Dim>& el : state_.groups) {
+      if (el.vertex_group != int(refs_[k].group)) continue;
+      const int gamma = element_dimension(el.kind);
+      const size_t corners = size_t(gamma + 1);
+      const size_t elements = group_offset_[size_t(&el - state_.groups.data())];
+      for (uint32_t q = vx.incident_begin[v]; q < vx.incident_begin[v + 1]; ++q) {
+        const size_t e = vx.incident[q] / corners, corner = vx.incident[q] % corners;
+        const StressDerivative<Dim>& A = hessian_[elements + e];
+        const Vec<Dim> t = tangent_coefficients<Dim>(el.rest_inverse[e], gamma, int(corner));
+        const Mat<Dim> Nt = normal_columns<Dim>(el.F[e], gamma).transpose() / Real(gamma + 1);
+        for (int s = 0; s < kStencil; ++s) {
+          const Vec<Dim> u = weights_[c][size_t(s)] * t + Nt * grads_[k][size_t(s)];
+          Real* dn = &diag_[size_t(nodes_[k][size_t(s)]) * Dim];
+          for (int a = 0; a < Dim; ++a) {
+            Real sum = 0;
+            for (int b = 0; b < Dim; ++b)
+              for (int e2 = 0; e2 < Dim; ++e2) sum += u[b] * u[e2] * A(a + Dim * b, a + Dim * e2);
+            dn[a] += dt2 * sum;
+          }
+        }
+      }
+      // Its hinges: dt^2 w^2 H(slot a, slot a).
+      for (uint32_t q = el.hinges.begin.empty() ? 0 : el.hinges.begin[v];
+           !el.hinges.begin.empty() && q < el.hinges.begin[v + 1]; ++q) {
+        const size_t h = el.hinges.incident[q] / 4, slot = el.hinges.incident[q] % 4;
+        const HingeHessian<Dim>& Hh = hinge_hessian_[size_t(&el - state_.groups.data())][h];
+        for (int s = 0; s < kStencil; ++s) {
+          const Real w = weights_[c][size_t(s)];
+          Real* dn = &diag_[size_t(nodes_[k][size_t(s)]) * Dim];
+          for (int a = 0; a < Dim; ++a) dn[a] += dt2 * w * w * Hh(int(slot) * Dim + a, int(slot) * Dim + a);
+        }
+      }
+    }
+  };
   scatter([&](size_t k) {
+    if (is_kind(k, GroupKind::MeshVertices)) return vertex_diagonal(k);
     const StressDerivative<Dim>& A = hessian_[k];
     for (int s = 0; s < kStencil; ++s) {
       const Vec<Dim>& u = grads_[k][size_t(s)];
@@ -249,6 +483,8 @@ std::vector<IVec<Dim>> IncrementalPotential<Dim>::node_coords() const {
 
 template <int Dim>
 Eigen::SparseMatrix<double, Eigen::RowMajor> IncrementalPotential<Dim>::hessian_matrix() const {
+  if (codim_)
+    throw std::logic_error("the assembled Hessian does not take codimensional elements");
   return assemble_hessian(node_coords());
 }
 
@@ -348,7 +584,19 @@ void IncrementalPotential<Dim>::apply_hessian(const std::vector<Real>& d,
   parallel_for(mass_.size(), [&](size_t node) {
     for (int a = 0; a < Dim; ++a) y[node * Dim + a] = mass_[node] * dp[node * Dim + a];
   });
+  if (codim_) {
+    gather_vertices(dp);
+    parallel_for(elements_.size(), [&](size_t q) {
+      const size_t k = elements_[q];
+      const Mat<Dim> dF = dt_ * element_rate(k);
+      const Vec<Dim * Dim> dP = hessian_[k] * dF.reshaped();
+      element_load_[k - codim_begin_] = Eigen::Map<const Mat<Dim>>(dP.data());
+    });
+    load_vertices();
+    load_hinges(true);
+  }
   scatter([&](size_t k) {
+    if (is_kind(k, GroupKind::MeshVertices)) return scatter_vertex(k, y);
     Mat<Dim> B = Mat<Dim>::Zero();
     for (int s = 0; s < kStencil; ++s)
       B += Eigen::Map<const Vec<Dim>>(&dp[size_t(nodes_[k][size_t(s)]) * Dim]) *

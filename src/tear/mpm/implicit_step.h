@@ -3,6 +3,7 @@
 // the grid velocities (Gast et al. 2015), by Newton's method (solvers/newton.h).
 #pragma once
 
+#include "tear/codim/bending.h"
 #include "tear/exec/domain.h"
 #include "tear/mpm/explicit_step.h"
 #include "tear/mpm/settings.h"
@@ -24,8 +25,11 @@ namespace tear {
 //   whose gradient is the explicit step's momentum balance with the stress at the end of the
 //   step; colliders and walls hold their nodes' constrained components (sticky: all, slip: the
 //   normal one, separate: the normal one where the node approaches) at v*'s; then colliders
-//   again (friction), G2P and the plastic projection. Crack fields (damage.split_fields) are not
-//   supported (the scene refuses them). One process only: `domain` must be local. Redone with a
+//   again (friction), G2P and the plastic projection. Codimensional elements (codim/) enter
+//   with their F(v) from their corners: the tangent columns from the corners' positions moved by
+//   their interpolated velocities, the normal columns advected by the corners' mean velocity
+//   gradient, as G2P will make them (so the potential's gradient at v* is the explicit step's
+//   force). Crack fields (damage.split_fields) are not supported (the scene refuses them). One process only: `domain` must be local. Redone with a
 // smaller dt where its velocities would move material too far, as every step
 // (integrate_step, mpm/explicit_step.h); returns the dt taken.
 template <int Dim>
@@ -60,15 +64,19 @@ class IncrementalPotential {
   // Auto, before the switch: builds the multigrid hierarchy at the current Hessian, used from
   // then on (the rest of this solve, the step's later Newton iterations and, through
   // MpmState::implicit_multigrid, later steps).
+  // Never with codimensional elements: their corners' stencils reach farther than the
+  // assembled matrix's 5-node neighbourhood, so they run with Jacobi.
   bool can_strengthen_preconditioner() const {
-    return settings_.implicit_preconditioner == ImplicitPreconditioner::Auto && !use_multigrid_;
+    return settings_.implicit_preconditioner == ImplicitPreconditioner::Auto && !use_multigrid_ &&
+           !codim_;
   }
   void strengthen_preconditioner();
   // Newton iterations whose linear solve used multigrid (for part of it, under auto).
   int multigrid_solves() const { return multigrid_solves_; }
   // The matrix apply_hessian applies (after prepare_hessian), assembled, with the identity on
   // the constrained directions and on nodes without mass: what the multigrid preconditioner
-  // coarsens. Row node * Dim + a: node's component a. Exposed for tests.
+  // coarsens. Row node * Dim + a: node's component a. Exposed for tests. Not with
+  // codimensional elements (throws std::logic_error).
   Eigen::SparseMatrix<double, Eigen::RowMajor> hessian_matrix() const;
   // The multigrid hierarchy of the last prepare_hessian (null with Jacobi).
   const LatticeMultigrid<Dim>* multigrid() const { return multigrid_.get(); }
@@ -88,6 +96,19 @@ class IncrementalPotential {
   template <class Fn>
   void scatter(Fn&& fn) const;  // fn(flat particle, add(node, vector)) in a deterministic order
   Real degradation_of(const ParticleRef& r) const;
+  // Codimensional bodies. Each mesh vertex gathers a grid vector u (its interpolated value and
+  // gradient, into vertex_u_ / vertex_G_); each element's rate dF/dt is linear in its corners'
+  // gathers; the element matrices in element_load_ (V P, or its differential) load their
+  // vertices (vertex_f_, vertex_S_: the force and normal-stress terms of codim/elements.h),
+  // which the scatter spreads like the explicit P2G. Indices: flat ref - codim_begin_.
+  void gather_vertices(const std::vector<Real>& u) const;
+  Mat<Dim> element_rate(size_t k) const;
+  void load_vertices() const;
+  void scatter_vertex(size_t k, std::vector<Real>& out) const;  // out += dt (f w + S grad w)
+  // Bending (codim/bending.h): each hinge's gradient at the vertices' end-of-step positions
+  // (vertex_x_), or its Hessian times dt times the gathered direction, added to vertex_f_.
+  void load_hinges(bool hessian) const;
+  bool is_kind(size_t k, GroupKind kind) const { return state_.groups[refs_[k].group].kind == kind; }
 
   const MpmSettings& settings_;
   const MpmState<Dim>& state_;
@@ -103,6 +124,15 @@ class IncrementalPotential {
   Real residual_mass_ = 0;  // residual(): the mass floor
   std::vector<Mat<Dim>> free_;  // per node: projection onto the unconstrained directions
   mutable std::vector<Real> scratch_;
+  bool codim_ = false;
+  size_t codim_begin_ = 0;
+  std::vector<size_t> elements_;  // flat refs of the element particles
+  std::vector<std::array<Real, kStencil>> weights_;  // vertices: w of each stencil node
+  mutable std::vector<Vec<Dim>> vertex_u_, vertex_f_;
+  mutable std::vector<Mat<Dim>> vertex_G_, vertex_S_, element_load_;
+  mutable std::vector<Vec<Dim>> vertex_x_;  // vertices: x + dt u of the last deformations()
+  std::vector<std::vector<HingeHessian<Dim>>> hinge_hessian_;  // per group: projected
+  mutable std::vector<std::array<Vec<Dim>, 4>> hinge_load_;
   void build_multigrid();
   std::vector<IVec<Dim>> node_coords() const;  // each grid node's integer coordinates
   Eigen::SparseMatrix<double, Eigen::RowMajor> assemble_hessian(

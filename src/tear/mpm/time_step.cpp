@@ -1,5 +1,6 @@
 #include "tear/mpm/time_step.h"
 
+#include "tear/codim/bending.h"
 #include "tear/damage/phase_field.h"
 #include "tear/exec/parallel.h"
 
@@ -36,6 +37,9 @@ DtLimits dt_limits(const MpmSettings& s, const MpmState<Dim>& state, const Domai
   l.max_dt = s.max_dt;
   Real c = 0;
   for (const MaterialParams& m : s.materials) c = std::max(c, wave_speed(m));
+  // Bending (codim/bending.h): its stiffest resolved mode as a wave speed, per body.
+  if (s.integrator == Integrator::Explicit)
+    for (const Particles<Dim>& p : state.groups) c = std::max(c, bending_wave_speed(s.materials, p, s.dx));
   // The implicit integrator is not limited by the wave speed (only by max_dt, the particle
   // speed's displacement CFL and, with explicit damage, its limit).
   l.wave = c > 0 && s.integrator == Integrator::Explicit ? s.cfl * s.dx / c : kNone;

@@ -6,6 +6,7 @@
 #include "tear/math/types.h"
 #include "tear/particles/field.h"
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -124,6 +125,19 @@ struct Particles : FieldRegistry {
   // from the element group's element_vertices by codim_vertex_forces (rebuilt where the sizes
   // do not match); not state, not a field.
   std::vector<uint32_t> incident_begin, incident;
+
+  // Element groups whose material bends (codim/bending.h): the hinges (a curve's interior
+  // vertices with their two neighbours, a surface's interior edges with their two opposite
+  // vertices), indices local to the vertex group. Derived by codim/bending.h from the elements,
+  // their rest state and the materials (built when `built` is false); not state, not a field.
+  struct Hinges {
+    bool built = false;
+    std::vector<std::array<uint32_t, 4>> vertex;  // curves: a, b (the hinge), c; surfaces: edge x0 x1, opposite x2 x3
+    std::vector<Real> stiffness;                 // curves: B / mean rest length; surfaces: D / (A_A + A_B)
+    std::vector<std::array<Real, 4>> weight;     // surfaces: the cotangent weights K
+    std::vector<uint32_t> begin, incident;       // per vertex: hinge * 4 + slot, in hinge order
+    size_t size() const { return vertex.size(); }
+  } hinges;
 
   // The optional frame columns a run may ask for (scene output.fields): the solids' ones. The
   // element groups' own (contact, normal_stretch) are written in every frame's mesh parts.

@@ -491,12 +491,13 @@ Scene parse_scene(const json& doc, const std::string& file) {
   out["objects"] = parse_objects(r, doc, &s);
   for (size_t i = 0; i < s.objects.size(); ++i) {
     if (s.objects[i].kind == ObjectKind::Volume) continue;
-    // Not yet (docs/scene_reference.md "Cloth, yarn and hair"): the step's implicit potential
-    // and the damage phases know solids only.
-    if (s.integrator == Integrator::Implicit)
-      r.fail("integrator",
-             "\"implicit\" does not take codimensional objects yet (objects[" + std::to_string(i) +
-                 "] is one): use \"explicit\"");
+    // The assembled Hessian that multigrid coarsens has no room for an element's corners'
+    // stencils (mpm/implicit_step.h); the damage phases know solids only.
+    if (s.integrator == Integrator::Implicit &&
+        s.implicit_preconditioner == ImplicitPreconditioner::Multigrid)
+      r.fail("implicit.preconditioner",
+             "\"multigrid\" does not take codimensional objects (objects[" + std::to_string(i) +
+                 "] is one): use \"jacobi\" or \"auto\" (which stays with Jacobi)");
     if (s.damage.solver != DamageSolver::None)
       r.fail("damage.solver",
              "damage does not run beside codimensional objects yet (objects[" + std::to_string(i) +

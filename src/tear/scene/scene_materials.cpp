@@ -99,7 +99,8 @@ json parse_plasticity(const Reader& r, const json& m, const std::string& path, R
 // c_F = tan) of a codimensional model; refused for the others.
 json parse_codim_keys(const Reader& r, const json& m, const std::string& path,
                       const std::string& model_str, MaterialParams* p) {
-  const char* keys[] = {"normal_stiffness", "shear_stiffness", "friction", "friction_angle"};
+  const char* keys[] = {"normal_stiffness", "shear_stiffness", "friction", "friction_angle",
+                        "bending_modulus"};
   if (model_codimension(p->model) == 0) {
     for (const char* key : keys)
       r.check(!r.find(m, key), key_path(path, key),
@@ -121,9 +122,12 @@ json parse_codim_keys(const Reader& r, const json& m, const std::string& path,
     p->friction = Real(r.number(m, path, "friction", double(p->friction)));
     r.non_negative(p->friction, key_path(path, "friction"));
   }
+  p->bending_modulus = Real(r.number(m, path, "bending_modulus", 0.0));
+  r.non_negative(p->bending_modulus, key_path(path, "bending_modulus"));
   return {{"normal_stiffness", p->normal_stiffness},
           {"shear_stiffness", p->shear_stiffness},
-          {"friction", p->friction}};
+          {"friction", p->friction},
+          {"bending_modulus", p->bending_modulus}};
 }
 
 MaterialSpec parse_material(const Reader& r, const std::string& name, const json& m,
@@ -132,7 +136,7 @@ MaterialSpec parse_material(const Reader& r, const std::string& name, const json
   r.object(m, path,
            {"model", "E", "nu", "rho", "fiber_scale", "lambda_convention", "damage", "plasticity",
             "inextensible", "inextensibility_relaxation", "normal_stiffness", "shear_stiffness",
-            "friction", "friction_angle"});
+            "friction", "friction_angle", "bending_modulus"});
   MaterialSpec spec;
   spec.name = name;
   std::string model_str = r.string(m, path, "model");
