@@ -2,7 +2,7 @@
 // potential's element terms against finite differences, its gradient at v* against the explicit
 // step's forces, a rope that settles to its static stretch under its weight and under a hung
 // block at steps far past the explicit limit, and the same bits on any thread count.
-#include "mpm_test_util.h"
+#include "codim_test_util.h"
 
 #include "tear/codim/elements.h"
 #include "tear/exec/threads.h"
@@ -17,44 +17,17 @@
 namespace tear {
 namespace {
 
+using testing::codim_sim;
+using testing::kMixedCodimFlight3d;
 using testing::MpmSim;
 
 Scene scene_of(const std::string& text) { return load_scene_text(text, "codim_implicit_test.json"); }
-
-template <int Dim>
-MpmSim<Dim> sim_of(const Scene& s) {
-  return MpmSim<Dim>(s, sample_scene_groups<Dim>(s));
-}
-
-// A sheet (random triangulation) and a rope beside a jelly block, all moving.
-const char* kMixed = R"({
-  "dim": 3, "seed": 3,
-  "grid": {"dx": 0.05, "domain_min": [0, 0, 0], "domain_max": [2, 2, 2], "walls": "none"},
-  "time": {"frame_dt": 0.01, "frames": 1, "cfl": 0.4, "max_dt": 1e-3},
-  "materials": {
-    "cloth": {"model": "surface_qr", "E": 2000, "nu": 0.3, "rho": 50, "friction": 0.4},
-    "jelly": {"model": "neo_hookean", "E": 500, "nu": 0.3, "rho": 20},
-    "yarn": {"model": "curve_qr", "E": 3000, "nu": 0.3, "rho": 80}
-  },
-  "objects": [
-    {"kind": "surface", "material": "cloth", "thickness": 0.01,
-     "shape": {"type": "sheet", "center": [1, 1, 1], "size": [0.5, 0.4], "resolution": [10, 8],
-               "triangulation": "random",
-               "transform": {"rotate": {"axis": [1, 0.3, 0], "angle_deg": 30}}},
-     "velocity": [0.3, 0.1, -0.2], "angular_velocity": [1, 2, 0.5]},
-    {"kind": "curves", "material": "yarn", "radius": 0.01,
-     "shape": {"type": "rope", "from": [0.7, 0.8, 0.8], "to": [1.3, 1.1, 1.2], "segments": 24},
-     "velocity": [-0.2, 0.3, 0.1], "angular_velocity": [0, 1.5, -1]},
-    {"material": "jelly", "shape": {"type": "box", "min": [0.8, 1.05, 0.8], "max": [1.1, 1.25, 1.1]},
-     "velocity": [0, -0.4, 0], "angular_velocity": [0.5, 0, 1]}
-  ]
-})";
 
 // The mixed scene with its meshes stretched and sheared at random (vertices moved by up to a
 // fifth of an edge) and the elements' normals squeezed into contact (r33, r22 about 0.9): every
 // term of the codimensional energies acts.
 MpmSim<3> deformed_mixed_scene() {
-  MpmSim<3> sim = sim_of<3>(scene_of(kMixed));
+  MpmSim<3> sim = codim_sim<3>(scene_of(kMixedCodimFlight3d));
   std::vector<Particles<3>>& groups = sim.state().groups;
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-0.01, 0.01);
@@ -180,7 +153,7 @@ TEST(CodimImplicit, HangingRopeSettlesToItsStaticStretch) {
                  "shape": {"type": "rope", "from": [0.5, 0.96], "to": [0.5, 0.4], "segments": 56}}],
     "boundaries": [{"type": "sticky", "shape": {"type": "box", "min": [0.3, 0.9], "max": [0.7, 1.2]}}]
   })");
-  MpmSim<2> sim = sim_of<2>(s);
+  MpmSim<2> sim = codim_sim<2>(s);
   const Particles<2>& el = sim.state().groups[2];
   int steps = 0;
   while (sim.time() < 1.5) {
@@ -233,7 +206,7 @@ void expect_rope_under_a_load_stretches_statically() {
                 Dim == 3 ? ", 0.47" : "", Dim == 3 ? ", 0.53" : "", Dim == 3 ? ", 0.3" : "",
                 Dim == 3 ? ", 0.7" : "");
   Scene s = scene_of(text);
-  MpmSim<Dim> sim = sim_of<Dim>(s);
+  MpmSim<Dim> sim = codim_sim<Dim>(s);
   const Particles<Dim>& el = sim.state().groups[2];
   const Particles<Dim>& solid = sim.state().groups[0];
   double M = 0;
@@ -273,13 +246,13 @@ TEST(CodimImplicit, RopeUnderAHungBlockStretchesByTheLoadBelow3D) {
 // below 1 ms): mass exact, linear momentum to Newton's tolerance (the elements' forces of any
 // grid velocities sum to zero, as a solid's do), and the same bits on one thread and on all.
 TEST(CodimImplicit, FreeFlightKeepsMomentumAndTheSameBitsOnAnyThreadCount) {
-  Scene s = scene_of(kMixed);
+  Scene s = scene_of(kMixedCodimFlight3d);
   s.integrator = Integrator::Implicit;
   s.newton.tolerance = 1e-8;
   std::vector<std::vector<Particles<3>>> runs;
   for (int threads : {1, 0}) {
     const ThreadLimit limit(threads);
-    MpmSim<3> sim = sim_of<3>(s);
+    MpmSim<3> sim = codim_sim<3>(s);
     const double m0 = sim.total_mass(), e0 = sim.kinetic_energy();
     const Vec3d P0 = sim.momentum();
     for (int i = 0; i < 8; ++i) sim.step(5e-3);

@@ -1,7 +1,7 @@
 // Codimensional bodies in MPM (Jiang et al. 2017; codim/elements.h): conservation in free
 // flight beside a solid, a hanging rope's static stretch and its pendulum frequencies against
 // the analytic chain, and the same bits on any thread count.
-#include "mpm_test_util.h"
+#include "codim_test_util.h"
 
 #include <gtest/gtest.h>
 
@@ -13,42 +13,15 @@
 namespace tear {
 namespace {
 
+using testing::codim_sim;
+using testing::kMixedCodimFlight3d;
 using testing::MpmSim;
 
 Scene scene_of(const std::string& text) { return load_scene_text(text, "codim_test.json"); }
 
-template <int Dim>
-MpmSim<Dim> sim_of(const Scene& s) {
-  return MpmSim<Dim>(s, sample_scene_groups<Dim>(s));
-}
-
-// A cloth sheet and a rope, both spinning and translating, beside a spinning jelly block, in
-// free flight (no gravity, no walls): they meet and push each other.
-const char* kMixedFlight3d = R"({
-  "dim": 3, "seed": 3,
-  "grid": {"dx": 0.05, "domain_min": [0, 0, 0], "domain_max": [2, 2, 2], "walls": "none"},
-  "time": {"frame_dt": 0.01, "frames": 1, "cfl": 0.4, "max_dt": 1e-3},
-  "materials": {
-    "cloth": {"model": "surface_qr", "E": 2000, "nu": 0.3, "rho": 50, "friction": 0.4},
-    "jelly": {"model": "neo_hookean", "E": 500, "nu": 0.3, "rho": 20},
-    "yarn": {"model": "curve_qr", "E": 3000, "nu": 0.3, "rho": 80}
-  },
-  "objects": [
-    {"kind": "surface", "material": "cloth", "thickness": 0.01,
-     "shape": {"type": "sheet", "center": [1, 1, 1], "size": [0.5, 0.4], "resolution": [10, 8],
-               "triangulation": "random",
-               "transform": {"rotate": {"axis": [1, 0.3, 0], "angle_deg": 30}}},
-     "velocity": [0.3, 0.1, -0.2], "angular_velocity": [1, 2, 0.5]},
-    {"kind": "curves", "material": "yarn", "radius": 0.01,
-     "shape": {"type": "rope", "from": [0.7, 0.8, 0.8], "to": [1.3, 1.1, 1.2], "segments": 24},
-     "velocity": [-0.2, 0.3, 0.1], "angular_velocity": [0, 1.5, -1]},
-    {"material": "jelly", "shape": {"type": "box", "min": [0.8, 1.05, 0.8], "max": [1.1, 1.25, 1.1]},
-     "velocity": [0, -0.4, 0], "angular_velocity": [0.5, 0, 1]}
-  ]
-})";
 
 TEST(Codim, GroupsOfAMixedSceneHoldTheMeshes) {
-  const Scene s = scene_of(kMixedFlight3d);
+  const Scene s = scene_of(kMixedCodimFlight3d);
   const std::vector<Particles<3>> groups = sample_scene_groups<3>(s);
   ASSERT_EQ(groups.size(), 5u);  // solids, curve vertices and elements, surface ones
   EXPECT_EQ(groups[0].kind, GroupKind::Volumetric);
@@ -89,7 +62,7 @@ TEST(Codim, GroupsOfAMixedSceneHoldTheMeshes) {
 
 template <int Dim>
 void expect_free_flight_conservation(const Scene& s, int steps) {
-  MpmSim<Dim> sim = sim_of<Dim>(s);
+  MpmSim<Dim> sim = codim_sim<Dim>(s);
   const double m0 = sim.total_mass();
   const Vec3d P0 = sim.momentum(), L0 = sim.angular_momentum();
   for (int i = 0; i < steps; ++i) sim.step(sim.estimate_dt());
@@ -108,7 +81,7 @@ void expect_free_flight_conservation(const Scene& s, int steps) {
 }
 
 TEST(Codim, FreeFlightOfClothRopeAndJellyConservesMomentumAndAngularMomentum) {
-  expect_free_flight_conservation<3>(scene_of(kMixedFlight3d), 150);
+  expect_free_flight_conservation<3>(scene_of(kMixedCodimFlight3d), 150);
 }
 
 TEST(Codim, FreeFlightOfSpinningCurves2DConservesMomentumAndAngularMomentum) {
@@ -130,11 +103,11 @@ TEST(Codim, FreeFlightOfSpinningCurves2DConservesMomentumAndAngularMomentum) {
 
 // Same scene, same bits, on one thread and on all.
 TEST(Codim, SameBitsOnAnyThreadCount) {
-  const Scene s = scene_of(kMixedFlight3d);
+  const Scene s = scene_of(kMixedCodimFlight3d);
   std::vector<std::vector<Particles<3>>> runs;
   for (int threads : {1, 0}) {
     const ThreadLimit limit(threads);
-    MpmSim<3> sim = sim_of<3>(s);
+    MpmSim<3> sim = codim_sim<3>(s);
     for (int i = 0; i < 40; ++i) sim.step(sim.estimate_dt());
     runs.push_back(sim.state().groups);
   }
@@ -166,7 +139,7 @@ TEST(Codim, HangingRopeStretchesUnderItsWeight) {
                  "shape": {"type": "rope", "from": [0.5, 0.96], "to": [0.5, 0.4], "segments": 56}}],
     "boundaries": [{"type": "sticky", "shape": {"type": "box", "min": [0.3, 0.9], "max": [0.7, 1.2]}}]
   })");
-  MpmSim<2> sim = sim_of<2>(s);
+  MpmSim<2> sim = codim_sim<2>(s);
   const Particles<2>& el = sim.state().groups[2];
   const Particles<2>& vx = sim.state().groups[1];
   while (sim.time() < 0.5) sim.step(sim.estimate_dt());
@@ -232,7 +205,7 @@ double hanging_chain_period(double dx) {
   })");
   s.dx = dx;
   s.boundaries[0].shape.radius = 2 * dx;
-  MpmSim<2> sim = sim_of<2>(s);
+  MpmSim<2> sim = codim_sim<2>(s);
   const Particles<2>& vx = sim.state().groups[1];
   const size_t end = 0;  // the free end: the file's first vertex
   std::vector<double> crossings;
@@ -278,7 +251,7 @@ TEST(Codim, SheetDrapesSymmetricallyOverASphere) {
     "boundaries": [{"type": "separate", "friction": 0.3,
                     "shape": {"type": "sphere", "center": [0.5, 0.45, 0.5], "radius": 0.1}}]
   })");
-  MpmSim<3> sim = sim_of<3>(s);
+  MpmSim<3> sim = codim_sim<3>(s);
   const Particles<3>& vx = sim.state().groups[1];
   const int n = 17;  // vertices a side, row by row along x
   while (sim.time() < 0.3) sim.step(sim.estimate_dt());
@@ -326,7 +299,7 @@ double incline_acceleration(double theta_deg, double mu, double* speed_at_end) {
     "boundaries": [{"type": "separate", "friction": %.17g,
                     "shape": {"type": "half_space", "point": [0.5, 0.3, 0.5], "normal": [%.17g, %.17g, 0]}}]
   })", -theta_deg, c.x(), c.y(), c.z(), mu, n.x(), n.y());
-  MpmSim<3> sim = sim_of<3>(scene_of(text));
+  MpmSim<3> sim = codim_sim<3>(scene_of(text));
   const Particles<3>& vx = sim.state().groups[1];
   auto speed = [&] {
     double sum = 0;
@@ -380,7 +353,7 @@ TEST(Codim, StackedSheetsPushedByABallKeepTheirOrder) {
       {"type": "slip", "shape": {"type": "sphere", "center": [0.32, 0.33, 0.5], "radius": 0.08},
        "velocity": [0.5, -0.2, 0], "start": 0, "end": 0.3}]
   })");
-  MpmSim<3> sim = sim_of<3>(s);
+  MpmSim<3> sim = codim_sim<3>(s);
   const Particles<3>& vx = sim.state().groups[1];
   const size_t per_sheet = 21 * 21;
   ASSERT_EQ(vx.size(), 3 * per_sheet);

@@ -71,6 +71,7 @@ IncrementalPotential<Dim>::IncrementalPotential(const MpmSettings& settings,
     vertex_G_.resize(nc);
     vertex_S_.resize(nc);
     element_load_.resize(nc);
+    element_normal_load_.resize(nc);
     vertex_x_.resize(nc);
     hinge_hessian_.resize(state.groups.size());
   } else {
@@ -216,14 +217,19 @@ void IncrementalPotential<Dim>::load_vertices() const {
     const size_t first = group_offset_[vg] - codim_begin_;
     const size_t elements = group_offset_[size_t(&el - state_.groups.data())] - codim_begin_;
     const Real share = Real(1) / Real(gamma + 1);
+    // Each element's corner share of its normal term, once (as codim_vertex_forces does).
+    parallel_for(el.size(), [&](size_t e) {
+      element_normal_load_[elements + e] =
+          share * (element_load_[elements + e] * normal_columns<Dim>(el.F[e], gamma).transpose());
+    });
     parallel_for(vx.size(), [&](size_t v) {
       Vec<Dim> f = Vec<Dim>::Zero();
       Mat<Dim> S = Mat<Dim>::Zero();
       for (uint32_t q = vx.incident_begin[v]; q < vx.incident_begin[v + 1]; ++q) {
         const size_t e = vx.incident[q] / corners, corner = vx.incident[q] % corners;
-        const Mat<Dim>& L = element_load_[elements + e];
-        f += L * tangent_coefficients<Dim>(el.rest_inverse[e], gamma, int(corner));
-        S += share * (L * normal_columns<Dim>(el.F[e], gamma).transpose());
+        f += element_load_[elements + e] *
+             tangent_coefficients<Dim>(el.rest_inverse[e], gamma, int(corner));
+        S += element_normal_load_[elements + e];
       }
       vertex_f_[first + v] = f;
       vertex_S_[first + v] = S;
@@ -385,6 +391,15 @@ void IncrementalPotential<Dim>::prepare_hessian(const std::vector<Real>& v) {
   // u = F^T grad w and A_p(a) the block of the particle's matrix that e_a u^T meets.
   diag_.assign(mass_.size() * Dim, 0);
   const Real dt2 = dt_ * dt_;
+  // dn[a] += dt^2 u^T A(a) u, A(a) the block of A that e_a u^T meets.
+  auto add_diagonal = [&](const Vec<Dim>& u, const StressDerivative<Dim>& A, Real* dn) {
+    for (int a = 0; a < Dim; ++a) {
+      Real sum = 0;
+      for (int c = 0; c < Dim; ++c)
+        for (int e = 0; e < Dim; ++e) sum += u[c] * u[e] * A(a + Dim * c, a + Dim * e);
+      dn[a] += dt2 * sum;
+    }
+  };
   // A vertex's stencil nodes: the same sum for each incident element, with u = w t_c +
   // N^T grad w / (gamma + 1) its corner's coefficients (the other corners' cross terms left
   // out: a preconditioner's approximation).
@@ -404,13 +419,7 @@ void IncrementalPotential<Dim>::prepare_hessian(const std::vector<Real>& v) {
         const Mat<Dim> Nt = normal_columns<Dim>(el.F[e], gamma).transpose() / Real(gamma + 1);
         for (int s = 0; s < kStencil; ++s) {
           const Vec<Dim> u = weights_[c][size_t(s)] * t + Nt * grads_[k][size_t(s)];
-          Real* dn = &diag_[size_t(nodes_[k][size_t(s)]) * Dim];
-          for (int a = 0; a < Dim; ++a) {
-            Real sum = 0;
-            for (int b = 0; b < Dim; ++b)
-              for (int e2 = 0; e2 < Dim; ++e2) sum += u[b] * u[e2] * A(a + Dim * b, a + Dim * e2);
-            dn[a] += dt2 * sum;
-          }
+          add_diagonal(u, A, &diag_[size_t(nodes_[k][size_t(s)]) * Dim]);
         }
       }
       // Its hinges: dt^2 w^2 H(slot a, slot a).
@@ -430,14 +439,7 @@ void IncrementalPotential<Dim>::prepare_hessian(const std::vector<Real>& v) {
     if (is_kind(k, GroupKind::MeshVertices)) return vertex_diagonal(k);
     const StressDerivative<Dim>& A = hessian_[k];
     for (int s = 0; s < kStencil; ++s) {
-      const Vec<Dim>& u = grads_[k][size_t(s)];
-      Real* dn = &diag_[size_t(nodes_[k][size_t(s)]) * Dim];
-      for (int a = 0; a < Dim; ++a) {
-        Real sum = 0;
-        for (int c = 0; c < Dim; ++c)
-          for (int e = 0; e < Dim; ++e) sum += u[c] * u[e] * A(a + Dim * c, a + Dim * e);
-        dn[a] += dt2 * sum;
-      }
+      add_diagonal(grads_[k][size_t(s)], A, &diag_[size_t(nodes_[k][size_t(s)]) * Dim]);
     }
   });
   parallel_for(mass_.size(), [&](size_t node) {

@@ -129,7 +129,7 @@ class IncrementalPotential {
   std::vector<size_t> elements_;  // flat refs of the element particles
   std::vector<std::array<Real, kStencil>> weights_;  // vertices: w of each stencil node
   mutable std::vector<Vec<Dim>> vertex_u_, vertex_f_;
-  mutable std::vector<Mat<Dim>> vertex_G_, vertex_S_, element_load_;
+  mutable std::vector<Mat<Dim>> vertex_G_, vertex_S_, element_load_, element_normal_load_;
   mutable std::vector<Vec<Dim>> vertex_x_;  // vertices: x + dt u of the last deformations()
   std::vector<std::vector<HingeHessian<Dim>>> hinge_hessian_;  // per group: projected
   mutable std::vector<std::array<Vec<Dim>, 4>> hinge_load_;
