@@ -54,7 +54,7 @@ case "$mode" in
   test)
     echo "== running the test suite"
     status=0
-    ctest --test-dir build --output-on-failure -j "$(nproc)" || status=1
+    ctest --test-dir build --output-on-failure -j "$(nproc)" -LE study || status=1
     echo "== $SECONDS s so far"
     # The readers and their corpus, the math, particle, io and grid tests again under ASan and
     # UndefinedBehaviorSanitizer (docs/architecture.md "Sanitizers"; the whole suite:

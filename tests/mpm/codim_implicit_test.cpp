@@ -4,6 +4,7 @@
 // block at steps far past the explicit limit, and the same bits on any thread count.
 #include "codim_test_util.h"
 
+#include "tear/codim/bending.h"
 #include "tear/codim/elements.h"
 #include "tear/exec/threads.h"
 #include "tear/mpm/implicit_step.h"
@@ -12,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <random>
 
 namespace tear {
@@ -26,8 +28,15 @@ Scene scene_of(const std::string& text) { return load_scene_text(text, "codim_im
 // The mixed scene with its meshes stretched and sheared at random (vertices moved by up to a
 // fifth of an edge) and the elements' normals squeezed into contact (r33, r22 about 0.9): every
 // term of the codimensional energies acts.
-MpmSim<3> deformed_mixed_scene() {
-  MpmSim<3> sim = codim_sim<3>(scene_of(kMixedCodimFlight3d));
+// With `bending`, the cloth and the yarn bend too (codim/bending.h).
+MpmSim<3> deformed_mixed_scene(bool bending = false) {
+  std::string text = kMixedCodimFlight3d;
+  if (bending)
+    for (const char* model : {"\"surface_qr\",", "\"curve_qr\","}) {
+      const size_t at = text.find(model);
+      text.insert(at + std::strlen(model), " \"bending_modulus\": 3e5,");
+    }
+  MpmSim<3> sim = codim_sim<3>(scene_of(text));
   std::vector<Particles<3>>& groups = sim.state().groups;
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-0.01, 0.01);
@@ -53,8 +62,21 @@ void prepare(MpmSim<3>& sim, double dt, double stress_dt) {
   grid_update(sim.settings(), &sim.state(), Real(dt));
 }
 
-TEST(CodimImplicit, PotentialGradientAndHessianMatchDifferences) {
-  MpmSim<3> sim = deformed_mixed_scene();
+void expect_potential_matches_differences(bool bending) {
+  MpmSim<3> sim = deformed_mixed_scene(bending);
+  double bent = 0;  // the hinges' energy at the deformed positions
+  if (bending) {
+    size_t hinges = 0;
+    for (const Particles<3>& g : sim.state().groups) {
+      if (element_dimension(g.kind) == 0) continue;
+      build_hinges(sim.settings().materials, sim.state().groups[size_t(g.vertex_group)],
+                   &sim.state().groups[size_t(&g - sim.state().groups.data())]);
+      hinges += g.hinges.size();
+      const Particles<3>& vx = sim.state().groups[size_t(g.vertex_group)];
+      for (size_t h = 0; h < g.hinges.size(); ++h) bent += double(hinge_energy(g, h, vx.x.data()));
+    }
+    ASSERT_GT(hinges, 50u);
+  }
   const double dt = 1e-2;
   prepare(sim, dt, 0);
   IncrementalPotential<3> ip(sim.settings(), sim.state(), Real(dt));
@@ -104,8 +126,18 @@ TEST(CodimImplicit, PotentialGradientAndHessianMatchDifferences) {
     norm2 += fdh * fdh;
   }
   EXPECT_GT(curv_exact - kinetic, 0.3 * kinetic);  // the elastic part counts (0.69 measured)
+  if (bending) EXPECT_GT(bent, 0.5 * ip.energy(v));  // the hinges' share counts (0.82 measured)
   EXPECT_GE(curv, curv_exact * (1 - 1e-6));  // the projection only adds curvature
   EXPECT_LT(std::sqrt(diff2), 0.05 * std::sqrt(norm2)) << "curvature " << curv << " exact " << curv_exact;
+}
+
+TEST(CodimImplicit, PotentialGradientAndHessianMatchDifferences) {
+  expect_potential_matches_differences(false);
+}
+
+// The same with bending hinges on the cloth and the yarn.
+TEST(CodimImplicit, PotentialWithBendingMatchesDifferences) {
+  expect_potential_matches_differences(true);
 }
 
 // At v*, the potential's gradient is the explicit step's force, dt f = m (v_explicit - v*), up

@@ -13,11 +13,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-template <int Dim>
-int hinge_corners(const Particles<Dim>& el) {
-  return element_dimension(el.kind) == 1 ? 3 : 4;
-}
-
 // A segment's rest length and its cross-section's second moment of area.
 template <int Dim>
 void segment_rest(const Particles<Dim>& el, size_t e, double* length, double* moment) {
@@ -60,7 +55,7 @@ struct CurveHinge {
   Vec<Dim> t1, t2;
   Real l1, l2, c;
   CurveHinge(const Particles<Dim>& el, size_t h, const Vec<Dim>* x) {
-    const auto& v = el.hinges.vertex[h];
+    const uint32_t* v = &el.hinges.corner[el.hinges.begin[h]];
     const Vec<Dim> e1 = x[v[1]] - x[v[0]], e2 = x[v[2]] - x[v[1]];
     l1 = e1.norm(), l2 = e2.norm();
     t1 = e1 / l1, t2 = e2 / l2;
@@ -86,15 +81,14 @@ void build_hinges(const std::vector<MaterialParams>& materials, const Particles<
   auto& H = el->hinges;
   if (H.built) return;
   H = {};
-  const int corners = hinge_corners(*el);
-  if (!bends(materials, *el)) {
-    H.begin.assign(vertices.size() + 1, 0);
-    H.built = true;
-    return;
-  }
-  const int gamma = element_dimension(el->kind);
+  H.begin.push_back(0);
   const size_t nv = vertices.size();
-  if (gamma == 1) {
+  auto add_hinge = [&](Real stiffness) {
+    H.stiffness.push_back(stiffness);
+    H.begin.push_back(uint32_t(H.corner.size()));
+  };
+  if (!bends(materials, *el)) {
+  } else if (element_dimension(el->kind) == 1) {
     // Each vertex's segments: a hinge where there are exactly two.
     std::vector<std::array<int64_t, 2>> seg(nv, {-1, -1});
     std::vector<int> count(nv, 0);
@@ -117,116 +111,117 @@ void build_hinges(const std::vector<MaterialParams>& materials, const Particles<
       const double B = (double(materials[el->material[e1]].bending_modulus) * I1 +
                         double(materials[el->material[e2]].bending_modulus) * I2) / 2;
       if (!(B > 0)) continue;
-      H.vertex.push_back({other(e1), uint32_t(b), other(e2), 0});
-      H.stiffness.push_back(Real(B / ((L1 + L2) / 2)));
-      H.weight.push_back({0, 0, 0, 0});
+      for (uint32_t v : {other(e1), uint32_t(b), other(e2)}) H.corner.push_back(v), H.weight.push_back(0);
+      add_hinge(Real(B / ((L1 + L2) / 2)));
     }
   } else {
-    // Each triangle edge (lower vertex, higher vertex, element, opposite corner), sorted: an
-    // interior edge appears twice.
-    std::vector<std::tuple<uint32_t, uint32_t, uint32_t, int>> edges;
+    // Each triangle edge (lower vertex, higher vertex, the cotangent opposite it), sorted: an
+    // interior edge appears twice, and its weight is half the sum of its two cotangents.
+    std::vector<std::tuple<uint32_t, uint32_t, double>> edges;
     edges.reserve(el->size() * 3);
-    for (size_t e = 0; e < el->size(); ++e)
+    std::vector<double> area(nv, 0), rigidity(nv, 0);  // mixed (Voronoi) areas, Meyer et al. 2003
+    for (size_t e = 0; e < el->size(); ++e) {
+      const auto& ev = el->element_vertices[e];
+      const Eigen::Matrix2d Dm = triangle_rest(*el, e);
+      const Eigen::Vector2d p[3] = {Eigen::Vector2d::Zero(), Dm.col(0), Dm.col(1)};
+      const double tri = std::abs(Dm.determinant()) / 2,
+                   D = double(plate_rigidity(materials[el->material[e]], *el, e));
+      double cot[3];
+      for (int k = 0; k < 3; ++k) cot[k] = rest_cotangent(Dm, k);
+      const bool obtuse = cot[0] < 0 || cot[1] < 0 || cot[2] < 0;
       for (int k = 0; k < 3; ++k) {
-        const uint32_t a = el->element_vertices[e][size_t(k)],
-                       b = el->element_vertices[e][size_t((k + 1) % 3)];
-        edges.emplace_back(std::min(a, b), std::max(a, b), uint32_t(e), (k + 2) % 3);
+        const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+        const uint32_t a = ev[size_t(k)], b = ev[size_t(k1)];
+        edges.emplace_back(std::min(a, b), std::max(a, b), cot[k2]);
+        // Corner k's share: its Voronoi region in a non-obtuse triangle, else half the
+        // triangle at the obtuse corner and a quarter at the others.
+        const double share = !obtuse ? ((p[k1] - p[k]).squaredNorm() * cot[k2] +
+                                        (p[k2] - p[k]).squaredNorm() * cot[k1]) / 8
+                                     : (cot[k] < 0 ? tri / 2 : tri / 4);
+        area[a] += share;
+        rigidity[a] += share * D;
       }
+    }
     std::sort(edges.begin(), edges.end());
+    // Each vertex's ring (neighbour, weight) in neighbour order; a vertex by an edge of other
+    // than two triangles is no hinge.
+    std::vector<std::vector<std::pair<uint32_t, double>>> ring(nv);
+    std::vector<bool> border(nv, false);
     for (size_t i = 0; i < edges.size();) {
-      size_t j = i + 1;
-      while (j < edges.size() && std::get<0>(edges[j]) == std::get<0>(edges[i]) &&
-             std::get<1>(edges[j]) == std::get<1>(edges[i]))
-        ++j;
-      if (j - i == 2) {
-        const uint32_t x0 = std::get<0>(edges[i]), x1 = std::get<1>(edges[i]);
-        const size_t tri[2] = {std::get<2>(edges[i]), std::get<2>(edges[i + 1])};
-        uint32_t opposite[2];
-        double cot0[2], cot1[2], area[2], rigidity[2];
-        for (int s = 0; s < 2; ++s) {
-          const size_t e = tri[s];
-          const auto& ev = el->element_vertices[e];
-          const int o = std::get<3>(edges[i + size_t(s)]);
-          opposite[s] = ev[size_t(o)];
-          int c0 = 0, c1 = 0;
-          for (int c = 0; c < 3; ++c) {
-            if (ev[size_t(c)] == x0) c0 = c;
-            if (ev[size_t(c)] == x1) c1 = c;
-          }
-          const Eigen::Matrix2d Dm = triangle_rest(*el, e);
-          cot0[s] = rest_cotangent(Dm, c0);
-          cot1[s] = rest_cotangent(Dm, c1);
-          area[s] = std::abs(Dm.determinant()) / 2;
-          rigidity[s] = double(plate_rigidity(materials[el->material[e]], *el, e));
-        }
-        const double D = (rigidity[0] + rigidity[1]) / 2;
-        if (D > 0) {
-          H.vertex.push_back({x0, x1, opposite[0], opposite[1]});
-          H.stiffness.push_back(Real(D / (area[0] + area[1])));
-          H.weight.push_back({Real(cot1[0] + cot1[1]), Real(cot0[0] + cot0[1]),
-                              Real(-(cot0[0] + cot1[0])), Real(-(cot0[1] + cot1[1]))});
-        }
-      }
+      const uint32_t a = std::get<0>(edges[i]), b = std::get<1>(edges[i]);
+      size_t j = i;
+      double w = 0;
+      for (; j < edges.size() && std::get<0>(edges[j]) == a && std::get<1>(edges[j]) == b; ++j)
+        w += std::get<2>(edges[j]) / 2;
+      if (j - i != 2) border[a] = border[b] = true;
+      ring[a].emplace_back(b, w);
+      ring[b].emplace_back(a, w);
       i = j;
     }
+    for (size_t v = 0; v < nv; ++v) {
+      if (border[v] || ring[v].empty() || !(rigidity[v] > 0)) continue;
+      std::sort(ring[v].begin(), ring[v].end());
+      double sum = 0;
+      for (const auto& [u, w] : ring[v]) sum += w;
+      H.corner.push_back(uint32_t(v));
+      H.weight.push_back(Real(-sum));
+      for (const auto& [u, w] : ring[v]) H.corner.push_back(u), H.weight.push_back(Real(w));
+      add_hinge(Real(rigidity[v] / (area[v] * area[v])));  // D / A, D = rigidity / A
+    }
   }
-  // Each vertex's (hinge, slot) pairs, in hinge order.
-  H.begin.assign(nv + 1, 0);
-  for (const auto& v : H.vertex)
-    for (int s = 0; s < corners; ++s) ++H.begin[v[size_t(s)] + 1];
-  for (size_t v = 0; v < nv; ++v) H.begin[v + 1] += H.begin[v];
-  H.incident.resize(H.begin[nv]);
-  std::vector<uint32_t> cursor(H.begin.begin(), H.begin.end() - 1);
-  for (size_t h = 0; h < H.vertex.size(); ++h)
-    for (int s = 0; s < corners; ++s) H.incident[cursor[H.vertex[h][size_t(s)]]++] = uint32_t(h * 4 + size_t(s));
+  // Each vertex's positions in corner[], in hinge order.
+  H.vertex_begin.assign(nv + 1, 0);
+  for (uint32_t v : H.corner) ++H.vertex_begin[v + 1];
+  for (size_t v = 0; v < nv; ++v) H.vertex_begin[v + 1] += H.vertex_begin[v];
+  H.incident.resize(H.corner.size());
+  std::vector<uint32_t> cursor(H.vertex_begin.begin(), H.vertex_begin.end() - 1);
+  for (size_t q = 0; q < H.corner.size(); ++q) H.incident[cursor[H.corner[q]]++] = uint32_t(q);
   H.built = true;
 }
+
+namespace {
+
+// A surface hinge's Laplacian row applied to x: sum_c w_c x_c.
+template <int Dim>
+Vec<Dim> laplacian(const Particles<Dim>& el, size_t h, const Vec<Dim>* x) {
+  const auto& H = el.hinges;
+  Vec<Dim> sum = Vec<Dim>::Zero();
+  for (uint32_t q = H.begin[h]; q < H.begin[h + 1]; ++q) sum += H.weight[q] * x[H.corner[q]];
+  return sum;
+}
+
+}  // namespace
 
 template <int Dim>
 Real hinge_energy(const Particles<Dim>& el, size_t h, const Vec<Dim>* x) {
   const Real s = el.hinges.stiffness[h];
   if (element_dimension(el.kind) == 1) return s * (1 - CurveHinge<Dim>(el, h, x).c);
-  const auto& v = el.hinges.vertex[h];
-  const auto& K = el.hinges.weight[h];
-  const Vec<Dim> sum = K[0] * x[v[0]] + K[1] * x[v[1]] + K[2] * x[v[2]] + K[3] * x[v[3]];
-  return s / 2 * sum.squaredNorm();
+  return s / 2 * laplacian(el, h, x).squaredNorm();
 }
 
 template <int Dim>
-void hinge_gradient(const Particles<Dim>& el, size_t h, const Vec<Dim>* x,
-                    std::array<Vec<Dim>, 4>* g) {
-  const Real s = el.hinges.stiffness[h];
+void hinge_gradient(const Particles<Dim>& el, size_t h, const Vec<Dim>* x, Vec<Dim>* g) {
+  const auto& H = el.hinges;
+  const Real s = H.stiffness[h];
   if (element_dimension(el.kind) == 1) {
     // E = s (1 - c): dc/de1 = (t2 - c t1) / l1, dc/de2 = (t1 - c t2) / l2; e1 = x_b - x_a,
     // e2 = x_c - x_b.
     const CurveHinge<Dim> k(el, h, x);
     const Vec<Dim> g1 = (k.t2 - k.c * k.t1) / k.l1, g2 = (k.t1 - k.c * k.t2) / k.l2;
-    (*g)[0] = s * g1;
-    (*g)[1] = s * (g2 - g1);
-    (*g)[2] = -s * g2;
-    (*g)[3].setZero();
+    g[0] = s * g1;
+    g[1] = s * (g2 - g1);
+    g[2] = -s * g2;
     return;
   }
-  const auto& v = el.hinges.vertex[h];
-  const auto& K = el.hinges.weight[h];
-  const Vec<Dim> sum = K[0] * x[v[0]] + K[1] * x[v[1]] + K[2] * x[v[2]] + K[3] * x[v[3]];
-  for (int j = 0; j < 4; ++j) (*g)[size_t(j)] = (s * K[size_t(j)]) * sum;
+  const Vec<Dim> sum = s * laplacian(el, h, x);
+  for (uint32_t q = H.begin[h]; q < H.begin[h + 1]; ++q) g[q - H.begin[h]] = H.weight[q] * sum;
 }
 
 template <int Dim>
-HingeHessian<Dim> hinge_hessian(const Particles<Dim>& el, size_t h, const Vec<Dim>* x,
-                                bool project) {
+CurveHingeHessian<Dim> curve_hinge_hessian(const Particles<Dim>& el, size_t h, const Vec<Dim>* x,
+                                           bool project) {
   using M = Mat<Dim>;
   const Real s = el.hinges.stiffness[h];
-  HingeHessian<Dim> out = HingeHessian<Dim>::Zero();
-  if (element_dimension(el.kind) == 2) {
-    // s K K^T (x) I: constant, positive semi-definite.
-    const auto& K = el.hinges.weight[h];
-    for (int a = 0; a < 4; ++a)
-      for (int b = 0; b < 4; ++b)
-        out.template block<Dim, Dim>(a * Dim, b * Dim) = (s * K[size_t(a)] * K[size_t(b)]) * M::Identity();
-    return out;
-  }
   // In the edge vectors (e1, e2): d2E = -s d2c with
   //   d2c/de1^2 = -(t1 g1^T + g1 t1^T) / l1 - c P1 / l1^2,  d2c/de1 de2 = (P2 / l2 - t1 g2^T) / l1,
   //   d2c/de2^2 = -(t2 g2^T + g2 t2^T) / l2 - c P2 / l2^2,  P = I - t t^T.
@@ -245,23 +240,48 @@ HingeHessian<Dim> hinge_hessian(const Particles<Dim>& el, size_t h, const Vec<Di
          eig.eigenvectors().transpose();
   }
   // x = (x_a, x_b, x_c): e1 = x_b - x_a, e2 = x_c - x_b.
-  Eigen::Matrix<Real, 2 * Dim, 4 * Dim> J = Eigen::Matrix<Real, 2 * Dim, 4 * Dim>::Zero();
+  Eigen::Matrix<Real, 2 * Dim, 3 * Dim> J = Eigen::Matrix<Real, 2 * Dim, 3 * Dim>::Zero();
   J.template block<Dim, Dim>(0, 0) = -M::Identity();
   J.template block<Dim, Dim>(0, Dim) = M::Identity();
   J.template block<Dim, Dim>(Dim, Dim) = -M::Identity();
   J.template block<Dim, Dim>(Dim, 2 * Dim) = M::Identity();
-  out = J.transpose() * He * J;
-  return out;
+  return J.transpose() * He * J;
+}
+
+template <int Dim>
+void hinge_hessian_product(const Particles<Dim>& el, size_t h, const CurveHingeHessian<Dim>* curve,
+                           const Vec<Dim>* u, Vec<Dim>* y) {
+  const auto& H = el.hinges;
+  if (element_dimension(el.kind) == 1) {
+    Eigen::Matrix<Real, 3 * Dim, 1> us;
+    for (int c = 0; c < 3; ++c) us.template segment<Dim>(c * Dim) = u[H.corner[H.begin[h] + uint32_t(c)]];
+    const Eigen::Matrix<Real, 3 * Dim, 1> ys = *curve * us;
+    for (int c = 0; c < 3; ++c) y[c] = ys.template segment<Dim>(c * Dim);
+    return;
+  }
+  // s w w^T (x) I.
+  const uint32_t n = H.corners(h);
+  const Real* w = &H.weight[H.begin[h]];
+  const Vec<Dim> sum = laplacian(el, h, u);
+  for (uint32_t c = 0; c < n; ++c) y[c] = (H.stiffness[h] * w[c]) * sum;
+}
+
+template <int Dim>
+Vec<Dim> hinge_hessian_diagonal(const Particles<Dim>& el, size_t h,
+                                const CurveHingeHessian<Dim>* curve, uint32_t c) {
+  if (element_dimension(el.kind) == 1) return curve->diagonal().template segment<Dim>(int(c) * Dim);
+  const Real w = el.hinges.weight[el.hinges.begin[h] + c];
+  return Vec<Dim>::Constant(el.hinges.stiffness[h] * w * w);
 }
 
 template <int Dim>
 void add_bending_forces(const Particles<Dim>& el, Particles<Dim>* vertices) {
   const auto& H = el.hinges;
-  std::vector<std::array<Vec<Dim>, 4>> g(H.size());
-  parallel_for(H.size(), [&](size_t h) { hinge_gradient(el, h, vertices->x.data(), &g[h]); });
+  std::vector<Vec<Dim>> g(H.corner.size());
+  parallel_for(H.size(), [&](size_t h) { hinge_gradient(el, h, vertices->x.data(), &g[H.begin[h]]); });
   parallel_for(vertices->size(), [&](size_t v) {
     Vec<Dim> f = Vec<Dim>::Zero();
-    for (uint32_t q = H.begin[v]; q < H.begin[v + 1]; ++q) f -= g[H.incident[q] / 4][H.incident[q] % 4];
+    for (uint32_t q = H.vertex_begin[v]; q < H.vertex_begin[v + 1]; ++q) f -= g[H.incident[q]];
     vertices->force[v] += f;
   });
 }
@@ -300,9 +320,13 @@ Real bending_wave_speed(const std::vector<MaterialParams>& materials, const Part
   template void build_hinges<D>(const std::vector<MaterialParams>&, const Particles<D>&,      \
                                 Particles<D>*);                                                \
   template Real hinge_energy<D>(const Particles<D>&, size_t, const Vec<D>*);                  \
-  template void hinge_gradient<D>(const Particles<D>&, size_t, const Vec<D>*,                 \
-                                  std::array<Vec<D>, 4>*);                                     \
-  template HingeHessian<D> hinge_hessian<D>(const Particles<D>&, size_t, const Vec<D>*, bool); \
+  template void hinge_gradient<D>(const Particles<D>&, size_t, const Vec<D>*, Vec<D>*);       \
+  template CurveHingeHessian<D> curve_hinge_hessian<D>(const Particles<D>&, size_t,           \
+                                                       const Vec<D>*, bool);                   \
+  template void hinge_hessian_product<D>(const Particles<D>&, size_t,                          \
+                                         const CurveHingeHessian<D>*, const Vec<D>*, Vec<D>*); \
+  template Vec<D> hinge_hessian_diagonal<D>(const Particles<D>&, size_t,                      \
+                                            const CurveHingeHessian<D>*, uint32_t);            \
   template void add_bending_forces<D>(const Particles<D>&, Particles<D>*);                    \
   template Real bending_wave_speed<D>(const std::vector<MaterialParams>&, const Particles<D>&, \
                                       double);

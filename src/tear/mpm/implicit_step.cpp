@@ -169,21 +169,18 @@ void IncrementalPotential<Dim>::load_hinges(bool hessian) const {
     if (element_dimension(el.kind) == 0 || el.hinges.size() == 0) continue;
     const auto& H = el.hinges;
     const size_t first = group_offset_[size_t(el.vertex_group)] - codim_begin_;
-    const int corners = element_dimension(el.kind) == 1 ? 3 : 4;
-    hinge_load_.resize(H.size());
+    const bool curve = element_dimension(el.kind) == 1;
+    hinge_load_.resize(H.corner.size());
     parallel_for(H.size(), [&](size_t h) {
-      std::array<Vec<Dim>, 4>& out = hinge_load_[h];
-      if (!hessian) return hinge_gradient(el, h, &vertex_x_[first], &out);
-      Eigen::Matrix<Real, 4 * Dim, 1> u = Eigen::Matrix<Real, 4 * Dim, 1>::Zero();
-      for (int j = 0; j < corners; ++j)
-        u.template segment<Dim>(j * Dim) = dt_ * vertex_u_[first + H.vertex[h][size_t(j)]];
-      const Eigen::Matrix<Real, 4 * Dim, 1> y = hinge_hessian_[g][h] * u;
-      for (int j = 0; j < 4; ++j) out[size_t(j)] = y.template segment<Dim>(j * Dim);
+      Vec<Dim>* out = &hinge_load_[H.begin[h]];
+      if (!hessian) return hinge_gradient(el, h, &vertex_x_[first], out);
+      hinge_hessian_product(el, h, curve ? &hinge_hessian_[g][h] : nullptr, &vertex_u_[first], out);
+      for (uint32_t c = 0; c < H.corners(h); ++c) out[c] *= dt_;
     });
     const size_t nv = state_.groups[size_t(el.vertex_group)].size();
     parallel_for(nv, [&](size_t v) {
       Vec<Dim> f = Vec<Dim>::Zero();
-      for (uint32_t q = H.begin[v]; q < H.begin[v + 1]; ++q) f += hinge_load_[H.incident[q] / 4][H.incident[q] % 4];
+      for (uint32_t q = H.vertex_begin[v]; q < H.vertex_begin[v + 1]; ++q) f += hinge_load_[H.incident[q]];
       vertex_f_[first + v] += f;
     });
   }
@@ -382,10 +379,11 @@ void IncrementalPotential<Dim>::prepare_hessian(const std::vector<Real>& v) {
   });
   for (size_t g = 0; g < hinge_hessian_.size(); ++g) {
     const Particles<Dim>& el = state_.groups[g];
+    hinge_hessian_[g].clear();
+    if (el.hinges.size() == 0 || element_dimension(el.kind) != 1) continue;  // surfaces': constant
     hinge_hessian_[g].resize(el.hinges.size());
-    if (el.hinges.size() == 0) continue;
     const Vec<Dim>* x = &vertex_x_[group_offset_[size_t(el.vertex_group)] - codim_begin_];
-    parallel_for(el.hinges.size(), [&](size_t h) { hinge_hessian_[g][h] = hinge_hessian(el, h, x, true); });
+    parallel_for(el.hinges.size(), [&](size_t h) { hinge_hessian_[g][h] = curve_hinge_hessian(el, h, x, true); });
   }
   // The Jacobi diagonal: m_i + dt^2 sum_p u^T A_p(a) u for each component a of node i, where
   // u = F^T grad w and A_p(a) the block of the particle's matrix that e_a u^T meets.
@@ -422,15 +420,18 @@ void IncrementalPotential<Dim>::prepare_hessian(const std::vector<Real>& v) {
           add_diagonal(u, A, &diag_[size_t(nodes_[k][size_t(s)]) * Dim]);
         }
       }
-      // Its hinges: dt^2 w^2 H(slot a, slot a).
-      for (uint32_t q = el.hinges.begin.empty() ? 0 : el.hinges.begin[v];
-           !el.hinges.begin.empty() && q < el.hinges.begin[v + 1]; ++q) {
-        const size_t h = el.hinges.incident[q] / 4, slot = el.hinges.incident[q] % 4;
-        const HingeHessian<Dim>& Hh = hinge_hessian_[size_t(&el - state_.groups.data())][h];
+      // Its hinges: dt^2 w^2 H(corner a, corner a).
+      const auto& H = el.hinges;
+      if (H.size() == 0) continue;
+      const auto& curves = hinge_hessian_[size_t(&el - state_.groups.data())];
+      for (uint32_t q = H.vertex_begin[v]; q < H.vertex_begin[v + 1]; ++q) {
+        const uint32_t at = H.incident[q];
+        const size_t h = size_t(std::upper_bound(H.begin.begin(), H.begin.end(), at) - H.begin.begin()) - 1;
+        const Vec<Dim> d = hinge_hessian_diagonal(el, h, curves.empty() ? nullptr : &curves[h], at - H.begin[h]);
         for (int s = 0; s < kStencil; ++s) {
           const Real w = weights_[c][size_t(s)];
           Real* dn = &diag_[size_t(nodes_[k][size_t(s)]) * Dim];
-          for (int a = 0; a < Dim; ++a) dn[a] += dt2 * w * w * Hh(int(slot) * Dim + a, int(slot) * Dim + a);
+          for (int a = 0; a < Dim; ++a) dn[a] += dt2 * w * w * d[a];
         }
       }
     }

@@ -131,8 +131,8 @@ class IncrementalPotential {
   mutable std::vector<Vec<Dim>> vertex_u_, vertex_f_;
   mutable std::vector<Mat<Dim>> vertex_G_, vertex_S_, element_load_, element_normal_load_;
   mutable std::vector<Vec<Dim>> vertex_x_;  // vertices: x + dt u of the last deformations()
-  std::vector<std::vector<HingeHessian<Dim>>> hinge_hessian_;  // per group: projected
-  mutable std::vector<std::array<Vec<Dim>, 4>> hinge_load_;
+  std::vector<std::vector<CurveHingeHessian<Dim>>> hinge_hessian_;  // per group: curves', projected
+  mutable std::vector<Vec<Dim>> hinge_load_;  // per hinge corner
   void build_multigrid();
   std::vector<IVec<Dim>> node_coords() const;  // each grid node's integer coordinates
   Eigen::SparseMatrix<double, Eigen::RowMajor> assemble_hessian(

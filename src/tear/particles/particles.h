@@ -126,17 +126,20 @@ struct Particles : FieldRegistry {
   // do not match); not state, not a field.
   std::vector<uint32_t> incident_begin, incident;
 
-  // Element groups whose material bends (codim/bending.h): the hinges (a curve's interior
-  // vertices with their two neighbours, a surface's interior edges with their two opposite
-  // vertices), indices local to the vertex group. Derived by codim/bending.h from the elements,
-  // their rest state and the materials (built when `built` is false); not state, not a field.
+  // Element groups whose material bends (codim/bending.h): the hinges, each a stencil of
+  // vertices (a curve's interior vertex with its two neighbours; a surface's interior vertex with
+  // its one-ring), indices local to the vertex group. Derived by codim/bending.h from the
+  // elements, their rest state and the materials (built when `built` is false); not state, not
+  // a field.
   struct Hinges {
     bool built = false;
-    std::vector<std::array<uint32_t, 4>> vertex;  // curves: a, b (the hinge), c; surfaces: edge x0 x1, opposite x2 x3
-    std::vector<Real> stiffness;                 // curves: B / mean rest length; surfaces: D / (A_A + A_B)
-    std::vector<std::array<Real, 4>> weight;     // surfaces: the cotangent weights K
-    std::vector<uint32_t> begin, incident;       // per vertex: hinge * 4 + slot, in hinge order
-    size_t size() const { return vertex.size(); }
+    std::vector<uint32_t> begin;    // hinge h's corners: corner[begin[h] .. begin[h + 1])
+    std::vector<uint32_t> corner;   // curves: a, b (the hinge), c; surfaces: the vertex, its ring
+    std::vector<Real> weight;       // per corner; surfaces: the cotangent Laplacian's row
+    std::vector<Real> stiffness;    // curves: B / mean rest length; surfaces: D / vertex area
+    std::vector<uint32_t> vertex_begin, incident;  // per vertex: its positions in corner[], hinge order
+    size_t size() const { return stiffness.size(); }
+    uint32_t corners(size_t h) const { return begin[h + 1] - begin[h]; }
   } hinges;
 
   // The optional frame columns a run may ask for (scene output.fields): the solids' ones. The
