@@ -299,7 +299,9 @@ double cantilever_error(double dx, int segments_per_dx, double max_dt, double un
   const double sag = sag_now();
   double fastest = 0;
   for (size_t v = 0; v < vx.size(); ++v) fastest = std::max(fastest, double(vx.v[v].norm()));
-  if (implicit) EXPECT_LT(fastest, 0.02 * deflection / 0.33) << "Dim " << Dim << " not at rest";  // period 0.33 s
+  if (implicit) {
+    EXPECT_LT(fastest, 0.02 * deflection / 0.33) << "Dim " << Dim << " not at rest";  // period 0.33 s
+  }
   std::printf("[ measure  ] %dD cantilever dx %g, %d segments: sag %.5f, Euler-Bernoulli %.5f (%+.2f %%)\n",
               Dim, dx, segments, sag, deflection, 100 * (sag / deflection - 1));
   return sag / deflection - 1;

@@ -126,7 +126,9 @@ void expect_potential_matches_differences(bool bending) {
     norm2 += fdh * fdh;
   }
   EXPECT_GT(curv_exact - kinetic, 0.3 * kinetic);  // the elastic part counts (0.69 measured)
-  if (bending) EXPECT_GT(bent, 0.5 * ip.energy(v));  // the hinges' share counts (0.82 measured)
+  if (bending) {
+    EXPECT_GT(bent, 0.5 * ip.energy(v));  // the hinges' share counts (0.82 measured)
+  }
   EXPECT_GE(curv, curv_exact * (1 - 1e-6));  // the projection only adds curvature
   EXPECT_LT(std::sqrt(diff2), 0.05 * std::sqrt(norm2)) << "curvature " << curv << " exact " << curv_exact;
 }

@@ -148,6 +148,51 @@ TEST(CodimScene, StrandsGrowOutOfTheCapOfTheirSphere) {
   EXPECT_NEAR(m2.vertices[28].x(), 0.5 - 0.1, 1e-12);
 }
 
+// A knit swatch: one yarn (each segment joins consecutive vertices) whose courses cross each
+// other in the swatch's plane with the yarn in front at some crossings and behind at others
+// (interlocked, not lying side by side), apart in depth where they cross, inside its size.
+TEST(CodimScene, KnitSwatchIsOneYarnWhoseCoursesInterlock) {
+  const int wales = 5, courses = 4;
+  const double W = 0.02, H = 0.015;
+  json knit = {{"kind", "curves"}, {"material", "yarn"}, {"radius", 0.0005},
+               {"shape", {{"type", "knit"}, {"center", {0.5, 0.4, 0.5}}, {"size", {wales * W, courses * H}},
+                          {"wales", wales}, {"courses", courses}, {"segments_per_loop", 12}}}};
+  const Scene s = parse_scene(codim_scene({knit}), "knit.json");
+  const CodimMesh& m = *s.objects[0].mesh;
+  ASSERT_EQ(m.elements.size() + 1, m.vertices.size());
+  EXPECT_GT(m.vertices.size(), size_t(courses * (wales * 12 + 1)));  // and the turns between
+  for (size_t e = 0; e < m.elements.size(); ++e)
+    ASSERT_EQ(m.elements[e], (std::array<uint32_t, 3>{uint32_t(e), uint32_t(e + 1), 0}));
+  for (const Vec3d& v : m.vertices) {
+    EXPECT_LE(std::abs(v.x() - 0.5), wales * W / 2 + 0.15 * W);  // the end loops' bulges
+    EXPECT_LE(std::abs(v.y() - 0.4), courses * H / 2 + 0.25 * H + 1e-12);
+  }
+  // Crossings of the segments' projections onto the swatch's plane (z): which is in front.
+  int front = 0, behind = 0;
+  double closest = 1;
+  for (size_t a = 0; a < m.elements.size(); ++a)
+    for (size_t b = a + 2; b < m.elements.size(); ++b) {
+      const Vec3d p = m.vertices[a], r = m.vertices[a + 1] - p, q = m.vertices[b], t = m.vertices[b + 1] - q;
+      const double den = r.x() * t.y() - r.y() * t.x();
+      if (std::abs(den) < 1e-15) continue;
+      const double u = ((q - p).x() * t.y() - (q - p).y() * t.x()) / den,
+                   w = ((q - p).x() * r.y() - (q - p).y() * r.x()) / den;
+      if (u < 0 || u > 1 || w < 0 || w > 1) continue;
+      const double dz = (q + w * t).z() - (p + u * r).z();
+      (dz > 0 ? front : behind) += 1;
+      closest = std::min(closest, std::abs(dz));
+    }
+  EXPECT_GE(front, wales * (courses - 1));
+  EXPECT_GE(behind, wales * (courses - 1));
+  EXPECT_GT(closest, 0.2 * std::min(W, H)) << front << " / " << behind;
+  // 2D has no depth to interlock in.
+  json doc2 = codim_scene({knit}, 2);
+  doc2["objects"][0]["shape"]["center"] = {0.5, 0.4};
+  EXPECT_NE(scene_error(doc2, "knit2.json").find("objects[0].shape.type: a \"knit\" swatch needs a 3D scene"),
+            std::string::npos)
+      << scene_error(doc2, "knit2.json");
+}
+
 struct Broken {
   std::string name;
   json doc;

@@ -50,6 +50,33 @@ CodimMesh make_rope(const Vec3d& from, const Vec3d& to, int segments) {
   return mesh;
 }
 
+CodimMesh make_knit(const Vec3d& center, const double size[2], int wales, int courses,
+                    int segments_per_loop) {
+  constexpr double kPi = 3.14159265358979323846;
+  CodimMesh mesh;
+  mesh.manifold = 1;
+  const double W = size[0] / wales, H = size[1] / courses, depth = 0.25 * std::min(W, H);
+  const int per_course = wales * segments_per_loop;
+  auto at = [&](int j, int i) -> Vec3d {
+    const double t = 2 * kPi * i / segments_per_loop;
+    return center + Vec3d(W * (t + 0.9 * std::sin(2 * t)) / (2 * kPi) - size[0] / 2,
+                          H * (j - (courses - 1) / 2.0 + 0.75 * std::cos(t)),
+                          depth * std::cos(2 * t));
+  };
+  for (int j = 0; j < courses; ++j) {
+    // Odd courses run back (flat knitting): the same loops, the yarn the other way.
+    for (int k = 0; k <= per_course; ++k) mesh.vertices.push_back(at(j, j % 2 == 0 ? k : per_course - k));
+    if (j + 1 == courses) break;
+    // Up the swatch's side to the next course, in segments about as long as the loops'.
+    const Vec3d from = mesh.vertices.back(), to = at(j + 1, j % 2 == 0 ? per_course : 0);
+    const double step = (at(j, 1) - at(j, 0)).norm();
+    const int n = std::max(1, int(std::ceil((to - from).norm() / step)));
+    for (int k = 1; k < n; ++k) mesh.vertices.push_back(from + (to - from) * (double(k) / n));
+  }
+  for (uint32_t v = 0; v + 1 < mesh.vertices.size(); ++v) mesh.elements.push_back({v, v + 1, 0});
+  return mesh;
+}
+
 CodimMesh make_strands(const Vec3d& center, double radius, const Vec3d& direction, double cap_deg,
                        int count, double length, int segments, int dim) {
   constexpr double kPi = 3.14159265358979323846;

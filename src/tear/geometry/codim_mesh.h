@@ -40,6 +40,20 @@ CodimMesh make_rope(const Vec3d& from, const Vec3d& to, int segments);
 CodimMesh make_strands(const Vec3d& center, double radius, const Vec3d& direction, double cap_deg,
                        int count, double length, int segments, int dim);
 
+// A stockinette knit swatch of size[0] x size[1] in the plane z = center.z (wales along x,
+// courses along y), one yarn: `wales` loops of width W = size[0] / wales per course, each in
+// `segments_per_loop` segments, the courses H = size[1] / courses apart, the yarn running back
+// along every other course (flat knitting) and up the swatch's side between them in segments as
+// long as the loops'. Course j follows, for
+// t in [0, 2 pi wales],
+//   x = W (t + 0.9 sin 2t) / (2 pi),  y = H (j + 3/4 cos t),  z = min(W, H) / 4 cos 2t:
+// each loop's head (t = 0) bulges wider than its neck and reaches three quarters of the way
+// into the next course, whose loops it crosses in the swatch's plane in front at some crossings
+// and behind at others (interlocked, not lying side by side), a quarter of min(W, H) apart in
+// depth where they cross.
+CodimMesh make_knit(const Vec3d& center, const double size[2], int wales, int courses,
+                    int segments_per_loop);
+
 // Every vertex mapped by fn (a transform).
 template <class Fn>
 void transform_vertices(CodimMesh* mesh, Fn&& fn) {

@@ -71,7 +71,7 @@ json parse_codim_object(const Reader& r, const json& o, const std::string& path,
   if (!sj->is_object()) r.fail(sp, "must be an object, got " + type_desc(*sj));
   const int manifold = surface ? 2 : 1;
   const int type = surface ? r.choice(*sj, sp, "type", {"sheet", "mesh"})
-                           : r.choice(*sj, sp, "type", {"rope", "mesh", "strands"});
+                           : r.choice(*sj, sp, "type", {"rope", "mesh", "strands", "knit"});
   json shape_out = {{"type", (*sj)["type"]}};
   CodimMesh mesh;
   if (type == 1) {
@@ -106,6 +106,29 @@ json parse_codim_object(const Reader& r, const json& o, const std::string& path,
     shape_out["count"] = count;
     shape_out["length"] = length;
     shape_out["segments"] = segments;
+  } else if (type == 3) {
+    if (r.dim != 3)
+      r.fail(key_path(sp, "type"), "a \"knit\" swatch needs a 3D scene (dim 3): its courses interlock in depth");
+    r.object(*sj, sp, {"type", "center", "size", "wales", "courses", "segments_per_loop", "transform"});
+    const Vec3d center = r.vec(*sj, sp, "center");
+    const std::array<double, 2> size = pair_of(r, *sj, sp, "size");
+    for (int k = 0; k < 2; ++k) r.positive(size[size_t(k)], index_path(key_path(sp, "size"), size_t(k)));
+    auto count = [&](const char* key, long long lo, long long hi, std::optional<long long> fallback) {
+      const long long n = r.integer(*sj, sp, key, fallback);
+      r.check(n >= lo && n <= hi, key_path(sp, key),
+              "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + std::to_string(n));
+      return int(n);
+    };
+    const int wales = count("wales", 1, 100000, std::nullopt), courses = count("courses", 1, 100000, std::nullopt),
+              per_loop = count("segments_per_loop", 4, 1000, 16);
+    r.check(double(wales) * courses * per_loop <= 1e8, sp, "wales x courses x segments_per_loop must be at most 1e8");
+    const double sz[2] = {size[0], size[1]};
+    mesh = make_knit(center, sz, wales, courses, per_loop);
+    shape_out["center"] = vec_json(center, 3);
+    shape_out["size"] = {size[0], size[1]};
+    shape_out["wales"] = wales;
+    shape_out["courses"] = courses;
+    shape_out["segments_per_loop"] = per_loop;
   } else if (surface) {
     r.object(*sj, sp, {"type", "center", "size", "resolution", "triangulation", "transform"});
     const Vec3d center = r.vec(*sj, sp, "center");
