@@ -87,8 +87,8 @@ void build_hinges(const std::vector<MaterialParams>& materials, const Particles<
     H.stiffness.push_back(stiffness);
     H.begin.push_back(uint32_t(H.corner.size()));
   };
-  if (!bends(materials, *el)) {
-  } else if (element_dimension(el->kind) == 1) {
+  const bool on = bends(materials, *el);
+  if (on && element_dimension(el->kind) == 1) {
     // Each vertex's segments: a hinge where there are exactly two.
     std::vector<std::array<int64_t, 2>> seg(nv, {-1, -1});
     std::vector<int> count(nv, 0);
@@ -114,7 +114,7 @@ void build_hinges(const std::vector<MaterialParams>& materials, const Particles<
       for (uint32_t v : {other(e1), uint32_t(b), other(e2)}) H.corner.push_back(v), H.weight.push_back(0);
       add_hinge(Real(B / ((L1 + L2) / 2)));
     }
-  } else {
+  } else if (on) {
     // Each triangle edge (lower vertex, higher vertex, the cotangent opposite it), sorted: an
     // interior edge appears twice, and its weight is half the sum of its two cotangents.
     std::vector<std::tuple<uint32_t, uint32_t, double>> edges;
@@ -201,8 +201,7 @@ Real hinge_energy(const Particles<Dim>& el, size_t h, const Vec<Dim>* x) {
 
 template <int Dim>
 void hinge_gradient(const Particles<Dim>& el, size_t h, const Vec<Dim>* x, Vec<Dim>* g) {
-  const auto& H = el.hinges;
-  const Real s = H.stiffness[h];
+  const Real s = el.hinges.stiffness[h];
   if (element_dimension(el.kind) == 1) {
     // E = s (1 - c): dc/de1 = (t2 - c t1) / l1, dc/de2 = (t1 - c t2) / l2; e1 = x_b - x_a,
     // e2 = x_c - x_b.
@@ -213,8 +212,7 @@ void hinge_gradient(const Particles<Dim>& el, size_t h, const Vec<Dim>* x, Vec<D
     g[2] = -s * g2;
     return;
   }
-  const Vec<Dim> sum = s * laplacian(el, h, x);
-  for (uint32_t q = H.begin[h]; q < H.begin[h + 1]; ++q) g[q - H.begin[h]] = H.weight[q] * sum;
+  hinge_hessian_product(el, h, nullptr, x, g);  // quadratic: the gradient is H x
 }
 
 template <int Dim>
@@ -262,8 +260,8 @@ void hinge_hessian_product(const Particles<Dim>& el, size_t h, const CurveHingeH
   // s w w^T (x) I.
   const uint32_t n = H.corners(h);
   const Real* w = &H.weight[H.begin[h]];
-  const Vec<Dim> sum = laplacian(el, h, u);
-  for (uint32_t c = 0; c < n; ++c) y[c] = (H.stiffness[h] * w[c]) * sum;
+  const Vec<Dim> sum = H.stiffness[h] * laplacian(el, h, u);
+  for (uint32_t c = 0; c < n; ++c) y[c] = w[c] * sum;
 }
 
 template <int Dim>

@@ -66,6 +66,7 @@ Vec<Dim> hinge_hessian_diagonal(const Particles<Dim>& el, size_t h,
 // hinge order: the same bits on any thread count).
 template <int Dim>
 void add_bending_forces(const Particles<Dim>& el, Particles<Dim>* vertices);
+
 // The frequency of the stiffest bending mode the grid resolves, omega = pi^2 sqrt(B / (rho A)) /
 // h^2 with h the larger of the element's size and dx, as a wave speed omega dx / 2 for the
 // explicit step's limit (dt <= cfl dx / c); 0 without bending.

@@ -88,14 +88,10 @@ json parse_codim_object(const Reader& r, const json& o, const std::string& path,
     const double cap = r.number(*sj, sp, "cap_angle", 60.0);
     r.check(cap >= 0 && cap <= 180, key_path(sp, "cap_angle"),
             "must be in [0, 180] degrees, got " + num_str(cap));
-    const long long count = r.integer(*sj, sp, "count");
-    r.check(count >= 1 && count <= 10000000, key_path(sp, "count"),
-            "must be in [1, 10000000], got " + std::to_string(count));
+    const long long count = r.integer_in(*sj, sp, "count", 1, 10000000);
     const double length = r.number(*sj, sp, "length");
     r.positive(length, key_path(sp, "length"));
-    const long long segments = r.integer(*sj, sp, "segments");
-    r.check(segments >= 1 && segments <= 100000, key_path(sp, "segments"),
-            "must be in [1, 100000], got " + std::to_string(segments));
+    const long long segments = r.integer_in(*sj, sp, "segments", 1, 100000);
     r.check(count == 1 || cap > 0, key_path(sp, "cap_angle"),
             "must be > 0 for more than one strand");
     mesh = make_strands(center, radius, direction, cap, int(count), length, int(segments), r.dim);
@@ -113,14 +109,9 @@ json parse_codim_object(const Reader& r, const json& o, const std::string& path,
     const Vec3d center = r.vec(*sj, sp, "center");
     const std::array<double, 2> size = pair_of(r, *sj, sp, "size");
     for (int k = 0; k < 2; ++k) r.positive(size[size_t(k)], index_path(key_path(sp, "size"), size_t(k)));
-    auto count = [&](const char* key, long long lo, long long hi, std::optional<long long> fallback) {
-      const long long n = r.integer(*sj, sp, key, fallback);
-      r.check(n >= lo && n <= hi, key_path(sp, key),
-              "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + std::to_string(n));
-      return int(n);
-    };
-    const int wales = count("wales", 1, 100000, std::nullopt), courses = count("courses", 1, 100000, std::nullopt),
-              per_loop = count("segments_per_loop", 4, 1000, 16);
+    const int wales = int(r.integer_in(*sj, sp, "wales", 1, 100000)),
+              courses = int(r.integer_in(*sj, sp, "courses", 1, 100000)),
+              per_loop = int(r.integer_in(*sj, sp, "segments_per_loop", 4, 1000, 16));
     r.check(double(wales) * courses * per_loop <= 1e8, sp, "wales x courses x segments_per_loop must be at most 1e8");
     const double sz[2] = {size[0], size[1]};
     mesh = make_knit(center, sz, wales, courses, per_loop);
@@ -151,9 +142,7 @@ json parse_codim_object(const Reader& r, const json& o, const std::string& path,
   } else {
     r.object(*sj, sp, {"type", "from", "to", "segments", "transform"});
     const Vec3d from = r.vec(*sj, sp, "from"), to = r.vec(*sj, sp, "to");
-    const long long segments = r.integer(*sj, sp, "segments");
-    r.check(segments >= 1 && segments <= 10000000, key_path(sp, "segments"),
-            "must be in [1, 10000000], got " + std::to_string(segments));
+    const long long segments = r.integer_in(*sj, sp, "segments", 1, 10000000);
     r.check((to - from).norm() > 0, key_path(sp, "to"), "must differ from \"from\"");
     mesh = make_rope(from, to, int(segments));
     shape_out["from"] = vec_json(from, r.dim);

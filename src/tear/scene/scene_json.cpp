@@ -183,4 +183,12 @@ void Reader::non_negative(double v, const std::string& path) const {
   check(v >= 0, path, "must be >= 0, got " + num_str(v));
 }
 
+long long Reader::integer_in(const json& obj, const std::string& path, const char* key,
+                             long long lo, long long hi, std::optional<long long> def) const {
+  const long long n = integer(obj, path, key, def);
+  check(n >= lo && n <= hi, key_path(path, key),
+        "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + std::to_string(n));
+  return n;
+}
+
 }  // namespace tear::scene_detail

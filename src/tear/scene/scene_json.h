@@ -77,6 +77,9 @@ class Reader {
   }
   void positive(double v, const std::string& path) const;
   void non_negative(double v, const std::string& path) const;
+  // An integer at obj[key] in [lo, hi] ("must be in [1, 100000], got 0").
+  long long integer_in(const json& obj, const std::string& path, const char* key, long long lo,
+                       long long hi, std::optional<long long> def = std::nullopt) const;
 
  private:
   std::string file_;
