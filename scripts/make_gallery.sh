@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # Runs examples and renders their last frame into the stills of docs/gallery.md:
 # docs/gallery/NAME.png for examples/NAME.json, and for the paper's demos (examples/paper/)
-# docs/gallery/paper/NAME.png (world space) and NAME_rest.png (material space).
-# Usage: bash scripts/make_gallery.sh [NAME | paper/NAME | paper ...]
-#   (default: every example in examples/; "paper": every scene in examples/paper/)
+# docs/gallery/paper/NAME.png (world space) and NAME_rest.png (material space), and for the
+# cloth, yarn and hair scenes (examples/codimensional/) docs/gallery/codimensional/NAME.png.
+# Usage: bash scripts/make_gallery.sh [NAME | paper/NAME | paper | codimensional/NAME |
+#   codimensional ...] (default: every example in examples/; "paper", "codimensional": every
+#   scene in that folder)
 #   THREADS=2 (tear run/render threads), OUT=out/gallery (run folders), SIZE=480x270,
 #   TEAR=./build/tear (the executable), NO_RUN=1 (render runs already in OUT, run only the
 #   missing ones)
@@ -15,8 +17,8 @@ size=${SIZE:-480x270}
 tear=${TEAR:-./build/tear}
 names=()
 for a in "$@"; do
-  if [[ $a == paper ]]; then
-    for f in examples/paper/*.json; do names+=("paper/$(basename "$f" .json)"); done
+  if [[ $a == paper || $a == codimensional ]]; then
+    for f in examples/$a/*.json; do names+=("$a/$(basename "$f" .json)"); done
   else
     names+=("$a")
   fi
@@ -33,7 +35,7 @@ still() {  # still RUN_DIR FRAME COLOR OUT.png [render options]
   ffmpeg -loglevel error -y -i "$run/render/$frame.png" \
     -vf "split[a][b];[a]palettegen=max_colors=256[p];[b][p]paletteuse=dither=none" "$png"
 }
-mkdir -p docs/gallery/paper
+mkdir -p docs/gallery/paper docs/gallery/codimensional
 for n in "${names[@]}"; do
   scene=examples/$n.json
   [[ -f $scene ]] || { echo "make_gallery: $scene: no such example" >&2; exit 1; }

@@ -4,6 +4,9 @@
 #include "cli_fixture.h"
 
 #include "tear/io/mesh_frames.h"
+#include "tear/render/color_map.h"
+#include "tear/render/image.h"
+#include "../render/render_fixture.h"
 
 namespace tear {
 namespace {
@@ -93,6 +96,83 @@ TEST_F(CodimCli, DegenerateMeshIsRefusedBeforeAnythingIsWritten) {
       << err_;
   EXPECT_EQ(tear("run " + s + " -o " + path("never") + " -q"), 1);
   EXPECT_FALSE(std::filesystem::exists(path("never")));
+}
+
+// tear render draws the cloth and the yarn (their material colours cover the picture where
+// they are), in world and rest space; a run that kept no PLY meshes is refused by name.
+TEST_F(CodimCli, RenderDrawsTheMeshes) {
+  json j = codim_scene();
+  j["render"] = json::parse(R"({"width": 160, "height": 96, "samples": 1, "color": "material"})");
+  const std::string s = write_scene(j);
+  ASSERT_EQ(tear("run " + s + " -o " + path("run") + " -q --frames 2"), 0) << err_;
+  ASSERT_EQ(tear("render " + path("run") + " --no-video -q --frames 2"), 0) << err_;
+  const Image im = decode_png(read_file(path("run/render/00002.png")));
+  // Pixels of a material's hue (shaded, saturated; the background and ground are greys and
+  // blue-greys, of low saturation).
+  auto count = [&](int material) {
+    const Rgb c = material_color(material);
+    const uint8_t ref[3] = {uint8_t(c[0] * 255), uint8_t(c[1] * 255), uint8_t(c[2] * 255)};
+    int n = 0;
+    for (int y = 0; y < im.height; ++y)
+      for (int x = 0; x < im.width; ++x) {
+        const uint8_t* p = im.at(x, y);
+        if (std::max({p[0], p[1], p[2]}) - std::min({p[0], p[1], p[2]}) < 40) continue;
+        const double dh = std::abs(test::hue(p) - test::hue(ref));
+        n += std::min(dh, 360 - dh) < 12;
+      }
+    return n;
+  };
+  EXPECT_GT(count(0), 1000) << "cloth";  // materials in name order: cloth, jelly, yarn
+  EXPECT_GT(count(2), 30) << "yarn";
+  ASSERT_EQ(tear("render " + path("run") + " --no-video -q --space rest"), 0) << err_;
+  EXPECT_TRUE(std::filesystem::exists(path("run/render/00002.png")));
+
+  j["output"]["mesh_formats"] = {"obj"};
+  const std::string obj = write_scene(j);
+  ASSERT_EQ(tear("run " + obj + " -o " + path("obj") + " -q --frames 1"), 0) << err_;
+  EXPECT_EQ(tear("render " + path("obj") + " --no-video -q"), 1);
+  EXPECT_NE(err_.find(path("obj/frames/00000.curves.obj") + ": the run wrote this mesh part "
+                      "without its PLY file"),
+            std::string::npos)
+      << err_;
+}
+
+// tear convert writes the mesh parts in the mesh formats (VTU with DIR/PART.pvd, OBJ), and
+// tear mesh writes them beside the solids' surface.
+TEST_F(CodimCli, ConvertAndMeshWriteTheMeshParts) {
+  const std::string s = write_scene(codim_scene());
+  ASSERT_EQ(tear("run " + s + " -o " + path("run") + " -q --frames 2"), 0) << err_;
+  auto lines_starting = [](const std::string& text, const std::string& head) {
+    size_t n = 0;
+    for (size_t at = 0; at < text.size();) {
+      const size_t end = std::min(text.find('\n', at), text.size());
+      n += text.compare(at, head.size(), head) == 0;
+      at = end + 1;
+    }
+    return n;
+  };
+  ASSERT_EQ(tear("convert " + path("run") + " --to vtu"), 0) << err_;
+  EXPECT_NE(out_.find("converted 6 meshes of " + path("run") + " to vtu (0 already vtu)"),
+            std::string::npos)
+      << out_;
+  const std::string vtu = read_file(path("run/frames/00002.surfaces.vtu"));
+  EXPECT_NE(vtu.find("NumberOfPoints=\"121\" NumberOfCells=\"200\""), std::string::npos);
+  EXPECT_NE(read_file(path("run/curves.pvd")).find("frames/00002.curves.vtu"), std::string::npos);
+  EXPECT_NE(read_file(path("run/surfaces.pvd")).find("frames/00001.surfaces.vtu"),
+            std::string::npos);
+  ASSERT_EQ(tear("convert " + path("run") + " --to obj --frames 1:2"), 0) << err_;
+  EXPECT_NE(out_.find("converted 4 meshes"), std::string::npos) << out_;
+  EXPECT_EQ(lines_starting(read_file(path("run/frames/00001.curves.obj")), "l "), 16u);
+  ASSERT_EQ(tear("convert " + path("run") + " --to obj"), 0) << err_;
+  EXPECT_NE(out_.find("converted 2 meshes of " + path("run") + " to obj (4 already obj)"),
+            std::string::npos)
+      << out_;
+
+  ASSERT_EQ(tear("mesh " + path("run") + " -q --frames 2"), 0) << err_;
+  EXPECT_NE(out_.find("and 2 cloth, yarn and hair meshes"), std::string::npos) << out_;
+  EXPECT_EQ(lines_starting(read_file(path("run/meshes/00002.surfaces.obj")), "f "), 200u);
+  EXPECT_EQ(lines_starting(read_file(path("run/meshes/00002.curves.obj")), "l "), 16u);
+  EXPECT_GT(lines_starting(read_file(path("run/meshes/00002.obj")), "f "), 100u);  // the jelly
 }
 
 }  // namespace

@@ -95,11 +95,18 @@ TEST_F(ConvertCli, FramesRangeConvertsOnlyThose) {
 
 TEST_F(ConvertCli, UnknownFormatAndMissingFolderFailClearly) {
   const std::string run = run_folder();
-  EXPECT_EQ(tear("convert " + run + " --to obj"), 2);
-  EXPECT_NE(err_.find("tear: " + run + ": unknown format \"obj\" for --to (known: ply, bgeo, vtu)"),
+  EXPECT_EQ(tear("convert " + run + " --to stl"), 2);
+  EXPECT_NE(err_.find("tear: " + run + ": unknown format \"stl\" for --to (known: ply, bgeo, vtu "
+                      "for the particles; ply, obj, vtu for the cloth, yarn and hair meshes)"),
             std::string::npos)
       << err_;
-  EXPECT_FALSE(fs::exists(frame_path(run, 0, "obj")));
+  EXPECT_FALSE(fs::exists(frame_path(run, 0, "stl")));
+  // A mesh-only format for a run of solids: nothing to write it from.
+  EXPECT_EQ(tear("convert " + run + " --to obj"), 1);
+  EXPECT_NE(err_.find("tear: " + run + ": obj is a format for meshes only, and the run has no "
+                      "cloth, yarn or hair meshes"),
+            std::string::npos)
+      << err_;
   EXPECT_EQ(tear("convert " + path("missing") + " --to bgeo"), 1);
   EXPECT_NE(err_.find("tear: " + path("missing") + ": no such folder"), std::string::npos) << err_;
   fs::create_directories(path("empty"));

@@ -189,9 +189,9 @@ int main(int argc, char** argv) {
 
   tear::ConvertOptions convert;
   CLI::App* convert_cmd = app.add_subcommand(
-      "convert", "Write a run's frames in another point format (ply, bgeo, vtu)");
+      "convert", "Write a run's frames in another format (particles: ply, bgeo, vtu; meshes: ply, obj, vtu)");
   convert_cmd->add_option("dir", convert.dir, "Output folder of tear run")->required();
-  convert_cmd->add_option("--to", convert.format, "Target format: ply, bgeo or vtu")
+  convert_cmd->add_option("--to", convert.format, "Target format: ply, bgeo or vtu (particles); ply, obj or vtu (cloth, yarn and hair meshes)")
       ->required();
   convert_cmd->add_option("--frames", convert.frames,
                           "Frames to convert: A:B, A:, :B or A (default: all)");

@@ -20,11 +20,14 @@ struct ConvertCounts {
   size_t converted = 0;    // frames written in the format
   size_t skipped = 0;      // frames in the range that were already in the format
   size_t pvd_entries = 0;  // datasets in DIR/frames.pvd (VTU only)
+  size_t meshes_converted = 0, meshes_skipped = 0;  // mesh parts (cloth, yarn, hair) likewise
 };
 
 // Writes DIR/frames/NNNNN.FORMAT, atomically, for every frame of DIR in `range` that is not yet
 // in FORMAT (reading the frame in the first of point_formats() it exists in), then, for vtu,
-// DIR/frames.pvd. Throws std::runtime_error naming DIR and the reason (no such folder, no frames
+// DIR/frames.pvd; for a mesh part format (mesh_part_formats()), likewise each frame's mesh
+// parts DIR/frames/NNNNN.PART.FORMAT from their PLY files, and for vtu DIR/PART.pvd. A format of
+// only one kind converts only that kind (obj: the meshes; bgeo: the particles). Throws std::runtime_error naming DIR and the reason (no such folder, no frames
 // in the range, an unknown format with the known ones listed, a frame that cannot be read).
 ConvertCounts convert_frames(const std::string& dir, const std::string& format,
                              const FrameRange& range);

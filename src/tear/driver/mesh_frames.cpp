@@ -14,6 +14,7 @@
 
 #include "tear/io/atomic_file.h"
 #include "tear/io/frames.h"
+#include "tear/io/mesh_frames.h"
 #include "tear/io/mesh_io.h"
 #include "tear/scene/scene.h"
 #include "tear/surface/mesher.h"
@@ -25,10 +26,12 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-std::string mesh_path(const std::string& dir, int frame, const std::string& format) {
+// DIR/meshes/NNNNN.FORMAT, or DIR/meshes/NNNNN.PART.FORMAT for a codimensional part.
+std::string mesh_path(const std::string& dir, int frame, const std::string& format,
+                      const std::string& part = "") {
   char name[32];
-  std::snprintf(name, sizeof(name), "%05d.%s", frame, format.c_str());
-  return (fs::path(dir) / "meshes" / name).string();
+  std::snprintf(name, sizeof(name), "%05d.", frame);
+  return (fs::path(dir) / "meshes" / (name + (part.empty() ? "" : part + ".") + format)).string();
 }
 
 double seconds_since(Clock::time_point t) {
@@ -83,21 +86,32 @@ int mesh_frames(const MeshFramesOptions& o) {
     }
     make_directories((fs::path(o.dir) / "meshes").string());
     const bool tty = ::isatty(STDERR_FILENO) != 0;
-    size_t triangles = 0;
+    size_t triangles = 0, parts = 0;
     for (size_t i = 0; i < files.size(); ++i) {
       const Clock::time_point frame_start = Clock::now();
       TriMesh mesh;
+      // Cloth, yarn and hair are meshes already: written as they are, beside the solids'.
+      const std::vector<MeshPart> codim = read_mesh_parts(o.dir, files[i].frame);
+      bool solids = true;
       try {
-        mesh = mesh_particles(read_frame(files[i].path), mesh_options);
+        const PointTable frame = read_frame(files[i].path);
+        solids = frame.count > 0 || codim.empty();
+        if (solids) mesh = mesh_particles(frame, mesh_options);
       } catch (const std::exception& e) {
         // read_frame names the file itself; the mesher does not.
         const std::string why = e.what();
         return fail(why.find(files[i].path) == std::string::npos ? files[i].path + ": " + why
                                                                  : why);
       }
-      for (const std::string& format : o.formats)
-        write_file_atomic(mesh_path(o.dir, files[i].frame, format),
-                          format == "obj" ? encode_obj(mesh) : encode_mesh_ply(mesh));
+      for (const std::string& format : o.formats) {
+        if (solids)
+          write_file_atomic(mesh_path(o.dir, files[i].frame, format),
+                            format == "obj" ? encode_obj(mesh) : encode_mesh_ply(mesh));
+        for (const MeshPart& part : codim)
+          write_file_atomic(mesh_path(o.dir, files[i].frame, format, part.name),
+                            encode_mesh_part(part, format));
+      }
+      parts += codim.size();
       triangles += mesh.triangles.size();
       if (!o.quiet) {
         std::fprintf(stderr, "%smesh %zu/%zu  frame %d  %zu triangles  %.2f s%s", tty ? "\r" : "",
@@ -109,9 +123,11 @@ int mesh_frames(const MeshFramesOptions& o) {
     }
     std::string written;
     for (const std::string& format : o.formats) written += (written.empty() ? "" : ", ") + format;
-    std::printf("meshed %zu frames (%zu triangles, %s) to %s in %.1f s\n", files.size(), triangles,
-                written.c_str(), (fs::path(o.dir) / "meshes").string().c_str(),
-                seconds_since(start));
+    const std::string also =
+        parts > 0 ? " and " + std::to_string(parts) + " cloth, yarn and hair meshes" : "";
+    std::printf("meshed %zu frames (%zu triangles%s, %s) to %s in %.1f s\n", files.size(),
+                triangles, also.c_str(), written.c_str(),
+                (fs::path(o.dir) / "meshes").string().c_str(), seconds_since(start));
     return 0;
   } catch (const std::exception& e) {
     return fail(e.what());

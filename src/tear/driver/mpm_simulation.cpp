@@ -183,6 +183,16 @@ class MpmSimulation final : public Simulation {
       part.element_columns.count = el.size();
       for (const char* name : {"id", "material", "contact", "normal_stretch"})
         part.element_columns.add(name, cols.types[index_of(cols, name)], cols.column(name));
+      if (gamma == 1) {
+        // A segment's radius from its volume over its rest length (codim/elements.h: V = L pi
+        // r^2 in 3D, L 2 r in 2D; D^-1's first entry is 1 / L), for pictures of tubes.
+        std::vector<double> radius(el.size());
+        for (size_t e = 0; e < el.size(); ++e) {
+          const double a = double(el.vol0[e]) * double(el.rest_inverse[e](0, 0));
+          radius[e] = Dim == 3 ? std::sqrt(a / M_PI) : 0.5 * a;
+        }
+        part.element_columns.add("radius", ColumnType::Float32, radius);
+      }
       part.elements = el.element_vertices;
       parts.push_back(std::move(part));
     }

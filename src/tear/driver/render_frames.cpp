@@ -65,6 +65,7 @@ RenderLook look_of(const Scene& s, const RenderSettings& settings) {
   }
   look.radius = 0.5 * particle_spacing(s, default_ppc(s.dim));
   look.spacing = particle_spacing(s);
+  look.mesh_gap = s.dx;
   return look;
 }
 
@@ -180,7 +181,9 @@ std::vector<Eigen::Vector3d> frames_reach(const std::string& dir, const Scene& s
   const size_t n = all.size(), picks = std::min<size_t>(n, 16);
   for (size_t k = 0; k < picks; ++k) {
     const size_t i = picks == 1 ? 0 : k * (n - 1) / (picks - 1);
-    const std::vector<Eigen::Vector3d> x = positions(read_frame(all[i].path));
+    std::vector<Eigen::Vector3d> x = positions(read_frame(all[i].path));
+    const std::vector<Eigen::Vector3d> mesh = mesh_points(read_mesh_parts(dir, all[i].frame));
+    x.insert(x.end(), mesh.begin(), mesh.end());
     if (x.empty()) continue;
     Vec3d lo = Vec3d::Zero(), hi = Vec3d::Zero();
     std::vector<double> c(x.size());
@@ -218,6 +221,7 @@ struct Sequence {
   std::vector<Collider> colliders;     // drawn where they are at each frame's time
   bool rest_space = false;
   std::optional<PointTable> rest;  // frame 0's id, x, y, z (rest space)
+  std::vector<PointTable> rest_meshes;  // frame 0's mesh vertices' x, y, z, by part
 
   Sequence(const std::string& d, const Scene& scene, const RenderOverrides& o)
       : dir(d), settings(settings_of(scene.render, o)), look(look_of(scene, settings)) {
@@ -230,13 +234,38 @@ struct Sequence {
   }
 
   // Keeps frame 0's positions for rest-space pictures.
-  void set_rest(const PointTable& frame0) {
+  void set_rest(const PointTable& frame0, const std::vector<MeshPart>& meshes0) {
     if (!rest_space || rest) return;
+    auto keep = [](const PointTable& from, PointTable* to) {
+      to->count = from.count;
+      for (const char* name : {"id", "x", "y", "z"})
+        if (from.has(name)) to->add(name, ColumnType::Float64, from.column(name));
+    };
     rest.emplace();
-    rest->count = frame0.count;
-    for (const char* name : {"id", "x", "y", "z"})
-      if (frame0.has(name)) rest->add(name, ColumnType::Float64, frame0.column(name));
+    keep(frame0, &*rest);
+    for (const MeshPart& part : meshes0) keep(part.vertices, &rest_meshes.emplace_back());
   }
+
+  // The meshes as drawn: in rest space, each vertex at its frame-0 position (mesh vertices are
+  // never reordered); in world space the meshes themselves.
+  const std::vector<MeshPart>& shown(int frame, const std::vector<MeshPart>& meshes) {
+    if (!rest_space) return meshes;
+    shown_meshes_ = meshes;
+    for (size_t k = 0; k < shown_meshes_.size(); ++k) {
+      PointTable& t = shown_meshes_[k].vertices;
+      if (k >= rest_meshes.size() || rest_meshes[k].count != t.count)
+        throw std::runtime_error("frame " + std::to_string(frame) + ": its " +
+                                 shown_meshes_[k].name +
+                                 " mesh is not that of frame 0, so it cannot be drawn in rest "
+                                 "space");
+      for (size_t c = 0; c < t.names.size(); ++c)
+        if ((t.names[c] == "x" || t.names[c] == "y" || t.names[c] == "z") &&
+            rest_meshes[k].has(t.names[c]))
+          t.columns[c] = rest_meshes[k].column(t.names[c]);
+    }
+    return shown_meshes_;
+  }
+  std::vector<MeshPart> shown_meshes_;  // shown()'s rest-space meshes
 
   // The frame as drawn: in rest space, each particle at its frame-0 position (same ids, same
   // order: frames list particles by id), with this frame's colours, in `shown_`; in world
@@ -260,12 +289,18 @@ struct Sequence {
   }
   PointTable shown_;  // shown()'s rest-space frame
 
-  void fit(int frame, const PointTable& first) {
-    stage = fit_stage(shown(frame, first), look, settings, reach);
+  void fit(int frame, const PointTable& first, const std::vector<MeshPart>& meshes) {
+    std::vector<Eigen::Vector3d> also = reach;
+    const std::vector<Eigen::Vector3d> points = mesh_points(shown(frame, meshes));
+    also.insert(also.end(), points.begin(), points.end());
+    stage = fit_stage(shown(frame, first), look, settings, also);
   }
 
-  void see_range(const PointTable& t) {
-    if (auto_range) top = std::max(top, color_range_top(t, settings.color));
+  void see_range(const PointTable& t, const std::vector<MeshPart>& meshes) {
+    if (!auto_range) return;
+    top = std::max(top, color_range_top(t, settings.color));
+    for (const MeshPart& part : meshes)
+      top = std::max(top, color_range_top(part.vertices, settings.color));
   }
 
   // The colliders' shapes where they are at the frame's time (those active then).
@@ -287,13 +322,15 @@ struct Sequence {
                                "\" in the scene's output.fields and run it again)");
   }
 
-  void draw(int frame, const PointTable& table, const std::string& source) {
+  void draw(int frame, const PointTable& table, const std::vector<MeshPart>& meshes,
+            const std::string& source) {
     check(table, source);
-    if (!stage) fit(frame, table);
+    if (!stage) fit(frame, table, meshes);
     if (auto_range) settings.range_max = top > 0 ? top : 1;
     const Image image = renderer.render(
         shown(frame, table), look, *stage, settings,
-        caption_of(frame, frame_dt) + (rest_space ? "   REST SPACE" : ""), colliders_at(frame));
+        caption_of(frame, frame_dt) + (rest_space ? "   REST SPACE" : ""), colliders_at(frame),
+        shown(frame, meshes));
     write_file_atomic(png_path(dir, frame), encode_png(image));
   }
 };
@@ -321,24 +358,29 @@ int render_frames(const RenderOptions& o) {
       seq.reach.insert(seq.reach.end(), frames.begin(), frames.end());
     }
     if (seq.auto_range && has_range(seq.settings.color))
-      for (const FrameFile& f : files) seq.see_range(read_frame(f.path));  // the run's top
+      for (const FrameFile& f : files)  // the run's top
+        seq.see_range(read_frame(f.path), read_mesh_parts(o.dir, f.frame));
     if (seq.rest_space) {
       const std::vector<FrameFile> all = list_frames(o.dir);
       if (all.empty() || all.front().frame != 0)
         return fail(o.dir + ": no frame 0 to take the rest positions from (--space rest)");
-      seq.set_rest(read_frame(all.front().path));
+      seq.set_rest(read_frame(all.front().path), read_mesh_parts(o.dir, 0));
     }
     make_directories((fs::path(o.dir) / "render").string());
     const bool tty = ::isatty(STDERR_FILENO) != 0;
     std::vector<int> done;
     for (size_t i = 0; i < files.size(); ++i) {
       const PointTable table = read_frame(files[i].path);
+      const std::vector<MeshPart> meshes = read_mesh_parts(o.dir, files[i].frame);
       if (i == 0) {
         seq.check(table, files[i].path);
         // Fitted to the run's first frame (and the reach), whichever frames are drawn, so that
         // drawing a range gives the pictures of drawing them all.
         const FrameFile first = list_frames(o.dir).front();
-        seq.fit(first.frame, first.frame == files[i].frame ? table : read_frame(first.path));
+        if (first.frame == files[i].frame)
+          seq.fit(first.frame, table, meshes);
+        else
+          seq.fit(first.frame, read_frame(first.path), read_mesh_parts(o.dir, first.frame));
         if (!o.quiet) {
           const Camera& c = seq.stage->camera;
           std::fprintf(stderr, "camera %g,%g,%g  target %g,%g,%g  fov %g\n", c.position.x(),
@@ -346,7 +388,7 @@ int render_frames(const RenderOptions& o) {
                        c.fov_deg);
         }
       }
-      seq.draw(files[i].frame, table, files[i].path);
+      seq.draw(files[i].frame, table, meshes, files[i].path);
       done.push_back(files[i].frame);
       if (!o.quiet) {
         const double wall = std::chrono::duration<double>(Clock::now() - start).count();
@@ -409,19 +451,20 @@ void RunRenderer::resume(int frame) {
   for (const FrameFile& f : list_frames(seq.dir)) {
     if (f.frame > frame) break;
     const PointTable table = read_frame(f.path);
-    if (f.frame == 0) seq.set_rest(table);
-    if (!seq.stage) seq.fit(f.frame, table);  // frame 0: the camera of the uninterrupted run
-    seq.see_range(table);
-    if (!fs::exists(png_path(seq.dir, f.frame))) seq.draw(f.frame, table, f.path);
+    const std::vector<MeshPart> meshes = read_mesh_parts(seq.dir, f.frame);
+    if (f.frame == 0) seq.set_rest(table, meshes);
+    if (!seq.stage) seq.fit(f.frame, table, meshes);  // frame 0: the uninterrupted run's camera
+    seq.see_range(table, meshes);
+    if (!fs::exists(png_path(seq.dir, f.frame))) seq.draw(f.frame, table, meshes, f.path);
   }
 }
 
-void RunRenderer::render(int frame, const PointTable& table) {
+void RunRenderer::render(int frame, const PointTable& table, const std::vector<MeshPart>& meshes) {
   Sequence& seq = impl_->seq;
   if (!seq.stage) make_directories((fs::path(seq.dir) / "render").string());
-  if (frame == 0) seq.set_rest(table);
-  seq.see_range(table);
-  seq.draw(frame, table, "frame " + std::to_string(frame));
+  if (frame == 0) seq.set_rest(table, meshes);
+  seq.see_range(table, meshes);
+  seq.draw(frame, table, meshes, "frame " + std::to_string(frame));
 }
 
 std::string RunRenderer::finish() {

@@ -7,11 +7,13 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace tear {
 
 struct Scene;
 struct PointTable;
+struct MeshPart;
 
 // Command-line options that override the scene's "render" section (unset: the scene's value).
 struct RenderOverrides {
@@ -55,8 +57,8 @@ class RunRenderer {
   // A resumed run: fits the camera on DIR's frame 0 and renders the frames up to `frame` that
   // have no picture yet.
   void resume(int frame);
-  // DIR/render/NNNNN.png of a frame the run has just written.
-  void render(int frame, const PointTable& table);
+  // DIR/render/NNNNN.png of a frame the run has just written, with its codimensional meshes.
+  void render(int frame, const PointTable& table, const std::vector<MeshPart>& meshes);
   // DIR/preview.mp4 of every rendered frame of the run; returns what to print.
   std::string finish();
 

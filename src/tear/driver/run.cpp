@@ -387,7 +387,7 @@ int run_scene(const RunOptions& o) {
       frames.write(0, *sim);
       if (renderer) {
         renderer->clear();
-        renderer->render(0, sim->frame_table());
+        renderer->render(0, sim->frame_table(), sim->frame_meshes());
       }
       FrameStats s = sim->collect_stats();
       stats.push_back(s.to_json().dump());
@@ -441,7 +441,7 @@ int run_scene(const RunOptions& o) {
       }
       if (frame % scene.output_every == 0 || frame == scene.frames) {
         frames.write(frame, *sim);
-        if (renderer) renderer->render(frame, sim->frame_table());
+        if (renderer) renderer->render(frame, sim->frame_table(), sim->frame_meshes());
       }
       stats.push_back(s.to_json().dump());
       write_lines_atomic(stats_path, stats);

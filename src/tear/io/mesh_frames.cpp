@@ -239,10 +239,19 @@ MeshPart decode_mesh_part_ply(const std::string& bytes) {
         if (prop.list) {
           const double n = body.next(prop.count_type, at);
           if (n != 3) ply_fail(kContext, "face " + std::to_string(row) + " is not a triangle");
-          for (int c = 0; c < 3; ++c) part.elements[row][size_t(c)] = uint32_t(body.next(prop.type, at));
+          for (int c = 0; c < 3; ++c) {
+            const double i = body.next(prop.type, at);
+            if (!(i >= 0 && i < double(part.vertices.count)))
+              ply_fail(kContext, "face " + std::to_string(row) + " has a vertex index out of range (" +
+                                     std::to_string(part.vertices.count) + " vertices)");
+            part.elements[row][size_t(c)] = uint32_t(i);
+          }
           continue;
         }
         const double value = body.next(prop.type, at);
+        if ((prop.name == "vertex1" || prop.name == "vertex2") && !(value >= 0 && value < double(part.vertices.count)))
+          ply_fail(kContext, "edge " + std::to_string(row) + " has a vertex index out of range (" +
+                                 std::to_string(part.vertices.count) + " vertices)");
         if (prop.name == "vertex1" || prop.name == "vertex2")
           part.elements[row][size_t(prop.name[6] - '1')] = uint32_t(value);
         else
@@ -251,6 +260,35 @@ MeshPart decode_mesh_part_ply(const std::string& bytes) {
     }
   }
   return part;
+}
+
+const std::vector<std::string>& mesh_part_names() {
+  static const std::vector<std::string> names{"curves", "surfaces"};
+  return names;
+}
+
+std::vector<MeshPart> read_mesh_parts(const std::string& dir, int frame) {
+  namespace fs = std::filesystem;
+  std::vector<MeshPart> parts;
+  for (const std::string& name : mesh_part_names()) {
+    const std::string ply = mesh_part_path(dir, frame, name, "ply");
+    if (!fs::exists(ply)) {
+      for (const std::string& f : mesh_part_formats())
+        if (f != "ply" && fs::exists(mesh_part_path(dir, frame, name, f)))
+          throw std::runtime_error(mesh_part_path(dir, frame, name, f) +
+                                   ": the run wrote this mesh part without its PLY file, which "
+                                   "tear reads mesh parts from (keep \"ply\" in the scene's "
+                                   "output.mesh_formats, its default)");
+      continue;
+    }
+    try {
+      parts.push_back(decode_mesh_part_ply(read_file(ply)));
+    } catch (const std::exception& e) {
+      throw std::runtime_error(ply + ": " + e.what());
+    }
+    parts.back().name = name;
+  }
+  return parts;
 }
 
 }  // namespace tear

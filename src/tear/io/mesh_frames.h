@@ -43,7 +43,17 @@ std::string encode_mesh_part_vtu(const MeshPart& part);
 void write_mesh_part_pvd(const std::string& dir, const std::string& part,
                          const std::map<int, double>& times);
 
-// The inverse, for tests and tools: the vertex and element tables and the connectivity.
+// The inverse, for tests and tools: the vertex and element tables and the connectivity (name
+// unset). Throws std::runtime_error ("bad PLY mesh part: ...") on a malformed file or an element
+// index out of range.
 MeshPart decode_mesh_part_ply(const std::string& bytes);
+
+// The part names a run writes: "curves", "surfaces".
+const std::vector<std::string>& mesh_part_names();
+// The codimensional parts of frame `frame` of the run folder `dir`, read from their PLY files
+// (DIR/frames/NNNNN.PART.ply, the default output.mesh_formats); none where the frame has none.
+// Throws std::runtime_error naming the file when a part was written only in other formats
+// (OBJ keeps no columns; VTU is not read back) or does not decode.
+std::vector<MeshPart> read_mesh_parts(const std::string& dir, int frame);
 
 }  // namespace tear

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "tear/geometry/shape.h"
+#include "tear/io/mesh_frames.h"
 #include "tear/io/point_table.h"
 #include "tear/render/camera.h"
 #include "tear/render/image.h"
@@ -36,6 +37,10 @@ struct RenderLook {
   std::vector<double> material_radius;      // sphere radius per material index
   double radius = 0.01;                     // sphere radius of other materials
   double spacing = 0.02;                    // particle spacing (surface mesher)
+  // How far in front of a codimensional mesh a collider may be and still be drawn under it
+  // (the grid spacing: meshes touch colliders at their vertices, and chords cut into curved
+  // colliders between them).
+  double mesh_gap = 0;
   std::vector<std::string> material_names;  // by material index, for the legend
 };
 
@@ -68,6 +73,9 @@ struct Stage {
 Stage fit_stage(const PointTable& first, const RenderLook& look, const RenderSettings& settings,
                 const std::vector<Eigen::Vector3d>& also = {});
 
+// The vertices of codimensional meshes, for fit_stage's `also`.
+std::vector<Eigen::Vector3d> mesh_points(const std::vector<MeshPart>& meshes);
+
 // Sphere radius of each point (settings.radius, else by material).
 std::vector<float> particle_radii(const PointTable& frame, const RenderLook& look,
                                   const RenderSettings& settings);
@@ -82,11 +90,16 @@ class Renderer {
   Renderer& operator=(const Renderer&) = delete;
 
   // One picture of `frame` with the legend of settings.color and `caption` (top left) drawn in,
-  // and `colliders` (shapes where they are at the frame's time) over it (collider_layer.h).
-  // Throws std::runtime_error when a column the colour map needs is missing.
+  // `colliders` (shapes where they are at the frame's time) over it (collider_layer.h), and
+  // the codimensional `meshes` (io/mesh_frames.h) beside the particles: cloth as shaded
+  // two-sided triangles, yarn and hair as round tubes of their radius (the element column
+  // "radius"; settings.radius, when set, for every tube), coloured by the map where their
+  // vertices have its columns, else by material. Throws std::runtime_error when a column the
+  // colour map needs is missing from the particles.
   Image render(const PointTable& frame, const RenderLook& look, const Stage& stage,
                const RenderSettings& settings, const std::string& caption = "",
-               const std::vector<Shape>& colliders = {}) const;
+               const std::vector<Shape>& colliders = {},
+               const std::vector<MeshPart>& meshes = {}) const;
 
  private:
   struct Device;

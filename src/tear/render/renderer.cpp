@@ -130,12 +130,35 @@ std::vector<Vector3f> point_albedo(const PointTable& frame, const RenderSettings
   return out;
 }
 
+// The frame column a colour map reads first.
+const char* map_column(ColorBy c) {
+  switch (c) {
+    case ColorBy::Fibers: return "fx";
+    case ColorBy::Velocity: return "vx";
+    default: return color_by_name(c);
+  }
+}
+
+// Display colour of a codimensional mesh's vertices: by the map where the vertices have its
+// columns (material and velocity: cloth, yarn and hair have no damage or fibers), else by
+// their material's colour.
+std::vector<Vector3f> mesh_albedo(const PointTable& vertices, const RenderSettings& settings) {
+  if (vertices.has(map_column(settings.color))) return point_albedo(vertices, settings);
+  std::vector<Vector3f> out(vertices.count, linear_rgb(material_color(0)));
+  if (vertices.has("material")) {
+    const std::vector<double>& m = vertices.column("material");
+    for (size_t i = 0; i < vertices.count; ++i) out[i] = linear_rgb(material_color(int(m[i])));
+  }
+  return out;
+}
+
 // What a camera ray found.
 struct Surface {
   Vector3d p;
   Vector3d n;   // shading normal, on the side of the eye
   Vector3d ng;  // geometric normal, on the side of the eye (where secondary rays start)
   Vector3f albedo;
+  bool codim = false;  // on a codimensional mesh (cloth, yarn, hair)
 };
 
 }  // namespace
@@ -195,22 +218,65 @@ T* new_buffer(RTCGeometry g, RTCBufferType type, RTCFormat format, size_t bytes,
   return static_cast<T*>(b);
 }
 
+// What a frame's picture holds, one layer per Embree geometry (its geomID): the particles as
+// spheres, a triangle mesh (the particles' surface, or cloth), or tubes (yarn and hair).
+enum class LayerKind { Spheres, Triangles, Tubes };
+struct Layer {
+  LayerKind kind = LayerKind::Spheres;
+  const float* sphere = nullptr;     // spheres: x y z r each (Embree's buffer)
+  std::vector<Vector3f> albedo;      // linear, per sphere or per vertex
+  std::vector<Vector3f> vertices;    // triangles and tubes
+  std::vector<Vector3f> normal;      // triangles, per vertex
+  std::vector<std::array<int32_t, 3>> elements;  // triangles; tubes' segments use the first two
+  std::vector<float> radius;         // tubes, per segment
+  bool codim = false;                // a codimensional mesh part
+};
+
+// The closest t > 0 at which the ray o + t d (|d| = 1) meets the capsule of radius r round the
+// segment a b, or a negative value when it misses.
+double capsule_hit(const Vector3d& o, const Vector3d& d, const Vector3d& a, const Vector3d& b,
+                   double r) {
+  const Vector3d ba = b - a, oa = o - a;
+  const double baba = ba.dot(ba), bard = ba.dot(d), baoa = ba.dot(oa), rdoa = d.dot(oa);
+  const double A = baba - bard * bard, B = baba * rdoa - baoa * bard,
+               C = baba * oa.dot(oa) - baoa * baoa - r * r * baba;
+  if (A > 1e-12 * baba) {
+    const double h = B * B - A * C;
+    if (h < 0) return -1;
+    const double t = (-B - std::sqrt(h)) / A, y = baoa + t * bard;
+    if (y > 0 && y < baba) return t;
+  }
+  // The round caps: the sphere at the end the ray reaches first, then the other.
+  double best = -1;
+  for (const Vector3d* c : {&a, &b}) {
+    const Vector3d oc = o - *c;
+    const double q = d.dot(oc), h = q * q - (oc.dot(oc) - r * r);
+    if (h < 0) continue;
+    const double t = -q - std::sqrt(h);
+    if (t > 0 && (best < 0 || t < best)) best = t;
+  }
+  return best;
+}
+
 // One frame's geometry in an Embree scene, and what shading needs to read back.
 class Geometry {
  public:
-  Geometry(RTCDevice device, const PointTable& frame, const RenderLook& look,
-           const RenderSettings& settings)
+  Geometry(RTCDevice device, const PointTable& frame, const std::vector<MeshPart>& meshes,
+           const RenderLook& look, const RenderSettings& settings)
       : scene_(rtcNewScene(device)) {
     if (!scene_) throw std::runtime_error("Embree: cannot create a scene");
     rtcSetSceneBuildQuality(scene(), RTC_BUILD_QUALITY_MEDIUM);
-    const std::vector<Vector3f> albedo = point_albedo(frame, settings);
-    std::vector<Vector3f> centre;
-    centre.reserve(frame.count);
-    for (const Vector3d& p : positions(frame)) centre.push_back(p.cast<float>());
-    if (settings.surface)
-      build_mesh(device, frame, look, centre, albedo);
-    else
-      build_spheres(device, particle_radii(frame, look, settings), centre, albedo);
+    if (frame.count > 0) {
+      const std::vector<Vector3f> albedo = point_albedo(frame, settings);
+      std::vector<Vector3f> centre;
+      centre.reserve(frame.count);
+      for (const Vector3d& p : positions(frame)) centre.push_back(p.cast<float>());
+      if (settings.surface)
+        build_surface(device, frame, look, centre, albedo);
+      else
+        build_spheres(device, particle_radii(frame, look, settings), centre, albedo);
+    }
+    for (const MeshPart& part : meshes) build_part(device, part, settings);
     rtcCommitScene(scene());
   }
   Geometry(const Geometry&) = delete;
@@ -227,51 +293,79 @@ class Geometry {
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(scene(), ctx, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    const Layer& layer = layers_[rh.hit.geomID];
     const size_t k = rh.hit.primID;
-    if (spheres_) {
-      // Re-solve the hit in double from the primitive Embree found, so shading depends only on
-      // which sphere was hit.
-      const float* v = sphere_ + 4 * k;
-      const Vector3d c(v[0], v[1], v[2]);
-      const double r = v[3];
-      const Vector3d oc = o - c;
-      const double b = oc.dot(d), disc = b * b - (oc.squaredNorm() - r * r);
-      *t = rh.ray.tfar;
-      if (disc >= 0) {
-        const double t0 = -b - std::sqrt(disc);
-        *t = t0 > 0 ? t0 : -b + std::sqrt(disc);
+    *t = rh.ray.tfar;
+    s->codim = layer.codim;
+    // Hits are re-solved in double from the primitive Embree found, so that shading depends
+    // only on which primitive was hit.
+    switch (layer.kind) {
+      case LayerKind::Spheres: {
+        const float* v = layer.sphere + 4 * k;
+        const Vector3d c(v[0], v[1], v[2]);
+        const double r = v[3];
+        const Vector3d oc = o - c;
+        const double b = oc.dot(d), disc = b * b - (oc.squaredNorm() - r * r);
+        if (disc >= 0) {
+          const double t0 = -b - std::sqrt(disc);
+          *t = t0 > 0 ? t0 : -b + std::sqrt(disc);
+        }
+        s->p = o + *t * d;
+        s->n = s->ng = (s->p - c).normalized();
+        s->albedo = layer.albedo[k];
+        break;
       }
-      s->p = o + *t * d;
-      s->n = s->ng = (s->p - c).normalized();
-      s->albedo = albedo_[k];
-    } else {
-      const auto& tri = triangles_[k];
-      const Vector3d a = vertex(tri[0]), e1 = vertex(tri[1]) - a, e2 = vertex(tri[2]) - a;
-      // Moller-Trumbore in double for t and the barycentrics.
-      const Vector3d pv = d.cross(e2);
-      const double det = e1.dot(pv);
-      double u = rh.hit.u, w = rh.hit.v;
-      *t = rh.ray.tfar;
-      if (std::abs(det) > 0) {
-        const Vector3d tv = o - a, qv = tv.cross(e1);
-        u = tv.dot(pv) / det;
-        w = d.dot(qv) / det;
-        *t = e2.dot(qv) / det;
+      case LayerKind::Triangles: {
+        const auto& tri = layer.elements[k];
+        const Vector3d a = vertex(layer, tri[0]), e1 = vertex(layer, tri[1]) - a,
+                       e2 = vertex(layer, tri[2]) - a;
+        // Moller-Trumbore in double for t and the barycentrics.
+        const Vector3d pv = d.cross(e2);
+        const double det = e1.dot(pv);
+        double u = rh.hit.u, w = rh.hit.v;
+        if (std::abs(det) > 0) {
+          const Vector3d tv = o - a, qv = tv.cross(e1);
+          u = tv.dot(pv) / det;
+          w = d.dot(qv) / det;
+          *t = e2.dot(qv) / det;
+        }
+        s->p = o + *t * d;
+        // A back face is seen inside a crack, through an open mesh or on cloth: light its
+        // visible side.
+        Vector3d ng = e1.cross(e2).normalized();
+        const double side = ng.dot(d) > 0 ? -1 : 1;
+        ng *= side;
+        Vector3d n = (1 - u - w) * layer.normal[size_t(tri[0])].cast<double>() +
+                     u * layer.normal[size_t(tri[1])].cast<double>() +
+                     w * layer.normal[size_t(tri[2])].cast<double>();
+        n *= side;
+        // Interpolated normals bent away from the eye would light the wrong side.
+        s->n = n.norm() > 0 && n.dot(d) < 0 ? Vector3d(n.normalized()) : ng;
+        s->ng = ng;
+        s->albedo = float(1 - u - w) * layer.albedo[size_t(tri[0])] +
+                    float(u) * layer.albedo[size_t(tri[1])] +
+                    float(w) * layer.albedo[size_t(tri[2])];
+        break;
       }
-      s->p = o + *t * d;
-      // A back face is seen inside a crack or through an open mesh: light its visible side.
-      Vector3d ng = e1.cross(e2).normalized();
-      const double side = ng.dot(d) > 0 ? -1 : 1;
-      ng *= side;
-      Vector3d n = (1 - u - w) * normal_[size_t(tri[0])].cast<double>() +
-                   u * normal_[size_t(tri[1])].cast<double>() +
-                   w * normal_[size_t(tri[2])].cast<double>();
-      n *= side;
-      // Interpolated normals bent away from the eye would light the wrong side.
-      s->n = n.norm() > 0 && n.dot(d) < 0 ? Vector3d(n.normalized()) : ng;
-      s->ng = ng;
-      s->albedo = float(1 - u - w) * albedo_[size_t(tri[0])] + float(u) * albedo_[size_t(tri[1])] +
-                  float(w) * albedo_[size_t(tri[2])];
+      case LayerKind::Tubes: {
+        const auto& seg = layer.elements[k];
+        const Vector3d a = vertex(layer, seg[0]), b = vertex(layer, seg[1]);
+        const double r = layer.radius[k];
+        const double tc = capsule_hit(o, d, a, b, r);
+        if (tc > 0) *t = tc;
+        s->p = o + *t * d;
+        const Vector3d ba = b - a;
+        const double f =
+            ba.squaredNorm() > 0 ? std::clamp((s->p - a).dot(ba) / ba.squaredNorm(), 0.0, 1.0) : 0;
+        Vector3d n = s->p - (a + f * ba);
+        if (!(n.norm() > 0)) n = -d;
+        n.normalize();
+        if (n.dot(d) > 0) n = -n;  // grazing: keep it towards the eye
+        s->n = s->ng = n;
+        s->albedo = float(1 - f) * layer.albedo[size_t(seg[0])] +
+                    float(f) * layer.albedo[size_t(seg[1])];
+        break;
+      }
     }
     return true;
   }
@@ -295,40 +389,96 @@ class Geometry {
     r->flags = 0;
   }
 
-  Vector3d vertex(int32_t i) const { return vertices_[size_t(i)].cast<double>(); }
+  static Vector3d vertex(const Layer& layer, int32_t i) {
+    return layer.vertices[size_t(i)].cast<double>();
+  }
+
+  // Attaches a committed geometry as the next layer (its geomID is the layer's index).
+  void attach(const GeometryHandle& g, Layer layer) {
+    rtcCommitGeometry(g.get());
+    rtcAttachGeometryByID(scene(), g.get(), unsigned(layers_.size()));
+    layers_.push_back(std::move(layer));
+  }
 
   void build_spheres(RTCDevice device, const std::vector<float>& radius,
                      const std::vector<Vector3f>& centre, const std::vector<Vector3f>& albedo) {
-    spheres_ = true;
     std::vector<size_t> keep;
     keep.reserve(centre.size());
     for (size_t i = 0; i < centre.size(); ++i)
       if (centre[i].allFinite() && radius[i] > 0) keep.push_back(i);
     if (keep.empty()) return;
     const GeometryHandle g(rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT));
-    sphere_ = new_buffer<float>(g.get(), RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT4,
-                                4 * sizeof(float), keep.size());
-    albedo_.resize(keep.size());
+    float* sphere = new_buffer<float>(g.get(), RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT4,
+                                      4 * sizeof(float), keep.size());
+    Layer layer;
+    layer.kind = LayerKind::Spheres;
+    layer.sphere = sphere;
+    layer.albedo.resize(keep.size());
     for (size_t k = 0; k < keep.size(); ++k) {
       const size_t i = keep[k];
-      float* v = sphere_ + 4 * k;
+      float* v = sphere + 4 * k;
       v[0] = centre[i].x(), v[1] = centre[i].y(), v[2] = centre[i].z(), v[3] = radius[i];
-      albedo_[k] = albedo[i];
+      layer.albedo[k] = albedo[i];
     }
-    rtcCommitGeometry(g.get());
-    rtcAttachGeometry(scene(), g.get());
+    attach(g, std::move(layer));
   }
 
-  void build_mesh(RTCDevice device, const PointTable& frame, const RenderLook& look,
-                  const std::vector<Vector3f>& centre, const std::vector<Vector3f>& albedo);
+  // A triangle layer of `layer`'s vertices and elements, with area-weighted vertex normals.
+  void build_triangles(RTCDevice device, Layer layer) {
+    if (layer.elements.empty()) return;
+    layer.kind = LayerKind::Triangles;
+    const std::vector<Vector3f>& x = layer.vertices;
+    layer.normal.assign(x.size(), Vector3f::Zero());
+    for (const auto& t : layer.elements) {
+      const Vector3f n = (x[size_t(t[1])] - x[size_t(t[0])]).cross(x[size_t(t[2])] - x[size_t(t[0])]);
+      for (int32_t i : t) layer.normal[size_t(i)] += n;  // area weighted
+    }
+    for (Vector3f& n : layer.normal)
+      if (n.norm() > 0) n.normalize();
+    const GeometryHandle g(rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE));
+    float* v = new_buffer<float>(g.get(), RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT3,
+                                 3 * sizeof(float), x.size());
+    for (size_t i = 0; i < x.size(); ++i)
+      for (int a = 0; a < 3; ++a) v[3 * i + size_t(a)] = x[i][a];
+    uint32_t* idx = new_buffer<uint32_t>(g.get(), RTC_BUFFER_TYPE_INDEX, RTC_FORMAT_UINT3,
+                                         3 * sizeof(uint32_t), layer.elements.size());
+    for (size_t t = 0; t < layer.elements.size(); ++t)
+      for (int a = 0; a < 3; ++a) idx[3 * t + size_t(a)] = uint32_t(layer.elements[t][size_t(a)]);
+    attach(g, std::move(layer));
+  }
+
+  // A tube layer: each segment a round linear curve of its own (two vertices, no neighbours,
+  // so both ends are capped by spheres: a capsule).
+  void build_tubes(RTCDevice device, Layer layer) {
+    if (layer.elements.empty()) return;
+    layer.kind = LayerKind::Tubes;
+    const size_t n = layer.elements.size();
+    const GeometryHandle g(rtcNewGeometry(device, RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE));
+    float* v = new_buffer<float>(g.get(), RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT4,
+                                 4 * sizeof(float), 2 * n);
+    uint32_t* idx =
+        new_buffer<uint32_t>(g.get(), RTC_BUFFER_TYPE_INDEX, RTC_FORMAT_UINT, sizeof(uint32_t), n);
+    for (size_t s = 0; s < n; ++s) {
+      for (int c = 0; c < 2; ++c) {
+        const Vector3f& p = layer.vertices[size_t(layer.elements[s][size_t(c)])];
+        float* q = v + 4 * (2 * s + size_t(c));
+        q[0] = p.x(), q[1] = p.y(), q[2] = p.z(), q[3] = layer.radius[s];
+      }
+      idx[s] = uint32_t(2 * s);
+    }
+    attach(g, std::move(layer));
+  }
+
+  // A codimensional mesh part: cloth as two-sided triangles, yarn and hair as tubes of their
+  // radius (the element column "radius", else settings.radius, else a hundredth of the part's
+  // size); elements with a vertex that is not finite are left out.
+  void build_part(RTCDevice device, const MeshPart& part, const RenderSettings& settings);
+
+  void build_surface(RTCDevice device, const PointTable& frame, const RenderLook& look,
+                     const std::vector<Vector3f>& centre, const std::vector<Vector3f>& albedo);
 
   SceneHandle scene_;
-  bool spheres_ = true;
-  float* sphere_ = nullptr;         // x y z r per sphere (Embree's buffer)
-  std::vector<Vector3f> albedo_;    // linear, per sphere or per mesh vertex
-  std::vector<Vector3f> vertices_;  // mesh
-  std::vector<Vector3f> normal_;    // mesh, per vertex
-  std::vector<std::array<int32_t, 3>> triangles_;
+  std::vector<Layer> layers_;  // by geomID
 };
 
 // Colour of each mesh vertex: that of the nearest point, found in a hash grid of cells twice
@@ -373,36 +523,54 @@ std::vector<Vector3f> vertex_albedo(const std::vector<Vector3f>& vertices,
   return out;
 }
 
-void Geometry::build_mesh(RTCDevice device, const PointTable& frame, const RenderLook& look,
-                          const std::vector<Vector3f>& centre,
-                          const std::vector<Vector3f>& albedo) {
-  spheres_ = false;
+void Geometry::build_surface(RTCDevice device, const PointTable& frame, const RenderLook& look,
+                             const std::vector<Vector3f>& centre,
+                             const std::vector<Vector3f>& albedo) {
   MeshOptions options;
   options.spacing = look.spacing;
   const TriMesh mesh = mesh_particles(frame, options);
-  vertices_ = mesh.vertices;
-  triangles_ = mesh.triangles;
-  if (triangles_.empty()) return;
-  albedo_ = vertex_albedo(vertices_, centre, albedo, look.spacing);
-  normal_.assign(vertices_.size(), Vector3f::Zero());
-  for (const auto& t : triangles_) {
-    const Vector3f n = (vertices_[size_t(t[1])] - vertices_[size_t(t[0])])
-                           .cross(vertices_[size_t(t[2])] - vertices_[size_t(t[0])]);
-    for (int32_t i : t) normal_[size_t(i)] += n;  // area weighted
+  if (mesh.triangles.empty()) return;
+  Layer layer;
+  layer.vertices = mesh.vertices;
+  layer.elements = mesh.triangles;
+  layer.albedo = vertex_albedo(layer.vertices, centre, albedo, look.spacing);
+  build_triangles(device, std::move(layer));
+}
+
+void Geometry::build_part(RTCDevice device, const MeshPart& part, const RenderSettings& settings) {
+  const PointTable& t = part.vertices;
+  Layer layer;
+  layer.codim = true;
+  for (const Vector3d& p : positions(t)) layer.vertices.push_back(p.cast<float>());
+  layer.albedo = mesh_albedo(t, settings);
+  const std::vector<double>* radius =
+      part.element_columns.has("radius") ? &part.element_columns.column("radius") : nullptr;
+  Vector3f lo = Vector3f::Constant(std::numeric_limits<float>::infinity()), hi = -lo;
+  for (const Vector3f& p : layer.vertices)
+    if (p.allFinite()) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const float fallback = float(0.01 * std::max(double((hi - lo).norm()), 1e-9));
+  const int corners = part.corners == 2 ? 2 : 3;
+  for (size_t e = 0; e < part.elements.size(); ++e) {
+    std::array<int32_t, 3> el{0, 0, 0};
+    bool ok = true;
+    for (int c = 0; c < corners; ++c) {
+      const uint32_t i = part.elements[e][size_t(c)];
+      ok = ok && i < layer.vertices.size() && layer.vertices[i].allFinite();
+      el[size_t(c)] = int32_t(i);
+    }
+    if (!ok) continue;
+    layer.elements.push_back(el);
+    if (corners == 2) {
+      const double r = settings.radius > 0 ? settings.radius
+                       : radius && e < radius->size() && (*radius)[e] > 0 ? (*radius)[e]
+                                                                           : fallback;
+      layer.radius.push_back(float(r));
+    }
   }
-  for (Vector3f& n : normal_)
-    if (n.norm() > 0) n.normalize();
-  const GeometryHandle g(rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE));
-  float* v = new_buffer<float>(g.get(), RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT3,
-                               3 * sizeof(float), vertices_.size());
-  for (size_t i = 0; i < vertices_.size(); ++i)
-    for (int a = 0; a < 3; ++a) v[3 * i + size_t(a)] = vertices_[i][a];
-  uint32_t* idx = new_buffer<uint32_t>(g.get(), RTC_BUFFER_TYPE_INDEX, RTC_FORMAT_UINT3,
-                                       3 * sizeof(uint32_t), triangles_.size());
-  for (size_t t = 0; t < triangles_.size(); ++t)
-    for (int a = 0; a < 3; ++a) idx[3 * t + size_t(a)] = uint32_t(triangles_[t][size_t(a)]);
-  rtcCommitGeometry(g.get());
-  rtcAttachGeometry(scene(), g.get());
+  if (corners == 2)
+    build_tubes(device, std::move(layer));
+  else
+    build_triangles(device, std::move(layer));
 }
 
 // Everything fixed while the pixels of one picture are traced.
@@ -412,14 +580,15 @@ struct Tracer {
   int samples;
   CameraView view;
   Vector3d up, key;
-  double cos_key, eps, ao_reach;
+  double cos_key, eps, ao_reach, mesh_gap;
   Vector3f top, bottom;  // background, linear
   std::optional<ColliderLayer> colliders;  // none: nothing to draw
   bool flat;                               // 2D: colliders lie over the particles
 
   Tracer(const Geometry& g, const Stage& st, const RenderLook& look, int n,
          const std::vector<Shape>& shapes)
-      : geo(g), stage(st), samples(n), view(st.camera.view()), flat(look.dim == 2) {
+      : geo(g), stage(st), samples(n), view(st.camera.view()), mesh_gap(look.mesh_gap),
+        flat(look.dim == 2) {
     up = look.up.normalized();
     // Key light from above, in front of the body and to the left as the camera sees it.
     const Vector3d &forward = view.forward, &right = view.right;
@@ -491,7 +660,10 @@ struct Tracer {
     double depth = t_ground;  // of what the ray sees
     if (geo.intersect(ctx, eye, d, t_ground, &t, &hit)) {
       c = shade(ctx, hit.p, hit.n, hit.ng, hit.albedo, sm, s);
-      depth = t;
+      // Cloth and hair lie on a collider with their vertices, and their flat triangles and
+      // straight segments cut into a round one between them: a collider less than mesh_gap
+      // in front of them is taken to be under them.
+      depth = hit.codim ? t - mesh_gap : t;
     } else {
       c = background(py / stage.camera.height);
       if (std::isfinite(t_ground)) {
@@ -513,8 +685,9 @@ struct Tracer {
 
 Image Renderer::render(const PointTable& frame, const RenderLook& look, const Stage& stage,
                        const RenderSettings& settings, const std::string& caption,
-                       const std::vector<Shape>& colliders) const {
-  Geometry geo(device_->device, frame, look, settings);
+                       const std::vector<Shape>& colliders,
+                       const std::vector<MeshPart>& meshes) const {
+  Geometry geo(device_->device, frame, meshes, look, settings);
   device_->check();
   const int w = stage.camera.width, h = stage.camera.height, n = std::max(1, settings.samples);
   const Tracer tracer(geo, stage, look, n, colliders);
@@ -538,12 +711,21 @@ Image Renderer::render(const PointTable& frame, const RenderLook& look, const St
   device_->check();
   Legend legend;
   legend.color = settings.color;
+  // Meshes without the map's columns are coloured by material: so is the legend when nothing
+  // else is in the picture.
+  bool map_shown = frame.count > 0;
+  for (const MeshPart& part : meshes) map_shown = map_shown || part.vertices.has(map_column(settings.color));
+  if (!map_shown && !meshes.empty()) legend.color = ColorBy::Material;
   legend.max = settings.range_max;
   legend.dim = look.dim;
   legend.material_names = look.material_names;
-  if (legend.material_names.empty() && frame.has("material")) {
+  if (legend.material_names.empty()) {
     double top = -1;
-    for (double m : frame.column("material")) top = std::max(top, m);
+    if (frame.has("material"))
+      for (double m : frame.column("material")) top = std::max(top, m);
+    for (const MeshPart& part : meshes)
+      if (part.vertices.has("material"))
+        for (double m : part.vertices.column("material")) top = std::max(top, m);
     for (int i = 0; i <= int(top) && i < 256; ++i)
       legend.material_names.push_back(std::to_string(i));
   }

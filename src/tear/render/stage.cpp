@@ -70,6 +70,14 @@ std::vector<float> particle_radii(const PointTable& frame, const RenderLook& loo
   return r;
 }
 
+std::vector<Vector3d> mesh_points(const std::vector<MeshPart>& meshes) {
+  std::vector<Vector3d> out;
+  for (const MeshPart& part : meshes)
+    for (const Vector3d& p : positions(part.vertices))
+      out.push_back(p.cast<float>().cast<double>());  // stored precision, as fit_stage's points
+  return out;
+}
+
 double max_speed(const PointTable& frame) {
   if (!frame.has("vx")) return 0;
   const std::vector<double>* v[3] = {&frame.column("vx"),
