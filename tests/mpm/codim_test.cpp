@@ -327,6 +327,89 @@ TEST(Codim, SheetOnAnInclineSlidesOrSticksByItsFrictionAngle) {
   EXPECT_LT(std::abs(v), 0.01);  // next to still (it starts at rest)
 }
 
+// Cloth on cloth on an incline, the return map's friction: a small sheet lies two cells above a
+// larger one whose border is pinned (gravity tilted by theta instead of the planes), so the two
+// meet only through the grid and the top sheet's elements, whose shear the return map caps at
+// c_F times their normal compression. Below the friction angle atan(c_F) (26.6 degrees for
+// c_F = 0.5) the top sheet comes to rest; above it, it keeps sliding; more friction, less slip.
+// What the grid adds (measured, dx 0.02): layers within a kernel share node velocities, so the
+// slide is a steady creep of 0.1-0.3 m/s rather than the acceleration g (sin - c_F cos) of two
+// rigid plates (0.17 m/s at 32 degrees; half that at dx 0.01: the coupling shrinks with dx), and
+// without friction the sheet accelerates at about half of g sin theta.
+// Returns the top sheet's mean slide (m) in [0.2, 0.3] s and in [0.3, 0.4] s.
+std::pair<double, double> cloth_on_cloth_slide(double theta_deg, double c_f) {
+  constexpr double kPi = 3.14159265358979323846, g = 9.81, dx = 0.02;
+  const double th = theta_deg * kPi / 180, y1 = 0.3 + 0.6 * dx, y2 = y1 + 2 * dx;
+  // Sticky strips over the bottom sheet's border (x, z in [0.38, 0.62]), down into the plane.
+  std::string pins;
+  const double lo = 0.38, hi = 0.62, w = 0.5 * dx;
+  const double strips[4][4] = {{lo - w, lo + w, lo - w, hi + w}, {hi - w, hi + w, lo - w, hi + w},
+                               {lo - w, hi + w, lo - w, lo + w}, {lo - w, hi + w, hi - w, hi + w}};
+  for (const auto& b : strips) {
+    char pin[256];
+    std::snprintf(pin, sizeof pin,
+                  R"(, {"type": "sticky", "shape": {"type": "box", "min": [%.17g, 0.28, %.17g],
+                   "max": [%.17g, %.17g, %.17g]}})",
+                  b[0], b[2], b[1], y1 + 0.6 * dx, b[3]);
+    pins += pin;
+  }
+  char text[4096];
+  std::snprintf(text, sizeof text, R"({
+    "dim": 3,
+    "grid": {"dx": 0.02, "domain_min": [0, 0, 0], "domain_max": [1, 1, 1], "walls": "none"},
+    "time": {"frame_dt": 0.01, "frames": 1, "max_dt": 1e-3},
+    "gravity": [%.17g, %.17g, 0],
+    "materials": {"cloth": {"model": "surface_qr", "E": 1e4, "nu": 0.3, "rho": 200, "friction": %.17g}},
+    "objects": [
+      {"kind": "surface", "material": "cloth", "thickness": 0.002,
+       "shape": {"type": "sheet", "center": [0.5, %.17g, 0.5], "size": [0.24, 0.24], "resolution": [16, 16]}},
+      {"kind": "surface", "material": "cloth", "thickness": 0.002,
+       "shape": {"type": "sheet", "center": [0.5, %.17g, 0.5], "size": [0.12, 0.12], "resolution": [8, 8]}}],
+    "boundaries": [{"type": "separate", "shape": {"type": "half_space", "point": [0.5, 0.3, 0.5], "normal": [0, 1, 0]}}%s]
+  })", g * std::sin(th), -g * std::cos(th), c_f, y1, y2, pins.c_str());
+  MpmSim<3> sim = codim_sim<3>(scene_of(text));
+  const Particles<3>& vx = sim.state().groups[1];  // both sheets: the bottom's 17 x 17 first
+  const size_t bottom = 17 * 17;
+  EXPECT_EQ(vx.size(), bottom + 9 * 9);
+  auto mean_x = [&] {
+    double sum = 0;
+    for (size_t i = bottom; i < vx.size(); ++i) sum += vx.x[i][0];
+    return sum / double(vx.size() - bottom);
+  };
+  double at[3];
+  for (int k = 0; k < 3; ++k) {
+    while (sim.time() < 0.2 + 0.1 * k - 1e-9) sim.step(sim.estimate_dt());
+    at[k] = mean_x();
+  }
+  // The bottom sheet stays where its pins hold it, stretched a little downhill by its own weight
+  // (3 mm, under a sixth of a cell, at 40 degrees).
+  double bottom_x = 0;
+  for (size_t i = 0; i < bottom; ++i) bottom_x += vx.x[i][0] - 0.5;
+  EXPECT_LT(std::abs(bottom_x / double(bottom)), 0.004) << theta_deg << " deg";
+  return {at[1] - at[0], at[2] - at[1]};
+}
+
+TEST(Codim, ClothOnClothSticksBelowItsFrictionAngleAndSlidesAbove) {
+  // Below atan(0.5): coming to rest (measured 0.9 and 0.3 mm at 15 degrees, 3.5 and 1.7 mm at
+  // 22 degrees).
+  for (const double theta : {15.0, 22.0}) {
+    const auto [first, last] = cloth_on_cloth_slide(theta, 0.5);
+    EXPECT_LT(last, 0.002) << theta;
+    EXPECT_LT(last, 0.6 * first) << theta;
+  }
+  // Above: a steady slide (measured 18.3 and 17.5 mm at 32 degrees).
+  const auto [first32, last32] = cloth_on_cloth_slide(32, 0.5);
+  EXPECT_GT(last32, 0.01);
+  EXPECT_GT(last32, 0.8 * first32);
+  // At 40 degrees, less friction slides further: 137 mm (accelerating), 29 mm, 11 mm in the
+  // last 0.1 s for c_F = 0, 0.5, 1 (atan 1 = 45 degrees: at rest soon after).
+  const double free = cloth_on_cloth_slide(40, 0).second, half = cloth_on_cloth_slide(40, 0.5).second,
+               one = cloth_on_cloth_slide(40, 1).second;
+  EXPECT_GT(free, 2 * half);
+  EXPECT_GT(half, 1.5 * one);
+  EXPECT_LT(one, 0.015);
+}
+
 // Three sheets a cell apart fall on a frictional floor and a ball rolls over them, pressing
 // them down and dragging them sideways: the layers meet only through the grid, yet none passes
 // through another: at every point of the square the three keep their order. (Layers within
