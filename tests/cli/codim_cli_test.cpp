@@ -137,7 +137,7 @@ TEST_F(CodimCli, RenderDrawsTheMeshes) {
       << err_;
 }
 
-// tear convert writes the mesh parts in the mesh formats (VTU with DIR/PART.pvd, OBJ), and
+// tear convert writes the mesh parts in the mesh formats (VTU with DIR/PART.pvd, OBJ, GEO), and
 // tear mesh writes them beside the solids' surface.
 TEST_F(CodimCli, ConvertAndMeshWriteTheMeshParts) {
   const std::string s = write_scene(codim_scene());
@@ -167,6 +167,11 @@ TEST_F(CodimCli, ConvertAndMeshWriteTheMeshParts) {
   EXPECT_NE(out_.find("converted 2 meshes of " + path("run") + " to obj (4 already obj)"),
             std::string::npos)
       << out_;
+
+  ASSERT_EQ(tear("convert " + path("run") + " --to geo --frames 2"), 0) << err_;
+  const std::string geo = read_file(path("run/frames/00002.surfaces.geo"));
+  EXPECT_EQ(geo.rfind("PGEOMETRY V5\nNPoints 121 NPrims 200\n", 0), 0u) << geo.substr(0, 200);
+  EXPECT_EQ(lines_starting(read_file(path("run/frames/00002.curves.geo")), "2 : "), 16u);
 
   ASSERT_EQ(tear("mesh " + path("run") + " -q --frames 2"), 0) << err_;
   EXPECT_NE(out_.find("and 2 cloth, yarn and hair meshes"), std::string::npos) << out_;

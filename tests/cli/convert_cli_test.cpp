@@ -97,7 +97,7 @@ TEST_F(ConvertCli, UnknownFormatAndMissingFolderFailClearly) {
   const std::string run = run_folder();
   EXPECT_EQ(tear("convert " + run + " --to stl"), 2);
   EXPECT_NE(err_.find("tear: " + run + ": unknown format \"stl\" for --to (known: ply, bgeo, vtu "
-                      "for the particles; ply, obj, vtu for the cloth, yarn and hair meshes)"),
+                      "for the particles; ply, obj, vtu, geo for the cloth, yarn and hair meshes)"),
             std::string::npos)
       << err_;
   EXPECT_FALSE(fs::exists(frame_path(run, 0, "stl")));

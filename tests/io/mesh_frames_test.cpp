@@ -1,5 +1,6 @@
 // The codimensional parts of frames (io/mesh_frames.h): PLY reads back as written, OBJ reads
-// back through the mesh reader, VTU holds the cells and arrays it says, bad parts are refused.
+// back through the mesh reader, VTU and Houdini's GEO hold the cells and arrays they say, bad
+// parts are refused.
 #include "tear/io/mesh_frames.h"
 
 #include <gtest/gtest.h>
@@ -90,6 +91,29 @@ TEST(MeshFrames, VtuHoldsTheCellsAndArrays) {
     EXPECT_EQ(open, 10u);
     EXPECT_EQ(open, close);
   }
+}
+
+// Houdini's classic ASCII geometry: the header's counts, the attribute dictionaries, a point
+// line and a primitive line of each kind, exactly.
+TEST(MeshFrames, GeoHoldsThePointsAndPolygons) {
+  for (int corners : {2, 3}) {
+    const std::string g = encode_mesh_part_geo(sample_part(corners));
+    EXPECT_EQ(g.rfind("PGEOMETRY V5\nNPoints 4 NPrims 2\nNPointGroups 0 NPrimGroups 0\n"
+                      "NPointAttrib 3 NVertexAttrib 0 NPrimAttrib 3 NAttrib 0\n"
+                      "PointAttrib\nid 1 int 0\nv 3 float 0 0 0\nmaterial 1 int 0\n"
+                      "0 0 0.5 1 (0 1 0 -1 2)\n1 0 0.5 1 (1 2 0 -2 2)\n",
+                      0),
+              0u)
+        << g;
+    EXPECT_NE(g.find("\n0 1 0.125 1 (3 4 0 -4 2)\nPrimitiveAttrib\nid 1 int 0\ncontact 1 int 0\n"
+                     "normal_stretch 1 float 0\nRun 2 Poly\n"),
+              std::string::npos)
+        << g;
+    const std::string prims = corners == 3 ? "3 < 0 1 2 [0 1 0.75]\n3 < 0 2 3 [1 2 1]\n"
+                                           : "2 : 0 1 [0 1 0.75]\n2 : 1 2 [1 2 1]\n";
+    EXPECT_NE(g.find("Run 2 Poly\n" + prims + "beginExtra\nendExtra\n"), std::string::npos) << g;
+  }
+  EXPECT_EQ(encode_mesh_part(sample_part(3), "geo"), encode_mesh_part_geo(sample_part(3)));
 }
 
 TEST(MeshFrames, PartsThatDoNotAddUpAreRefused) {

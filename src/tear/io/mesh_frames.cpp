@@ -55,7 +55,7 @@ ColumnType column_type(NumberType t) {
 }  // namespace
 
 const std::vector<std::string>& mesh_part_formats() {
-  static const std::vector<std::string> kFormats = {"ply", "obj", "vtu"};
+  static const std::vector<std::string> kFormats = {"ply", "obj", "vtu", "geo"};
   return kFormats;
 }
 
@@ -63,7 +63,8 @@ std::string encode_mesh_part(const MeshPart& part, const std::string& format) {
   if (format == "ply") return encode_mesh_part_ply(part);
   if (format == "obj") return encode_mesh_part_obj(part);
   if (format == "vtu") return encode_mesh_part_vtu(part);
-  throw std::runtime_error("mesh parts are written as ply, obj or vtu, not '" + format + "'");
+  if (format == "geo") return encode_mesh_part_geo(part);
+  throw std::runtime_error("mesh parts are written as ply, obj, vtu or geo, not '" + format + "'");
 }
 
 namespace {
@@ -100,6 +101,79 @@ std::string encode_mesh_part_obj(const MeshPart& part) {
     for (int c = 0; c < part.corners; ++c) out += " " + std::to_string(e[size_t(c)] + 1);
     out += "\n";
   }
+  return out;
+}
+
+std::string encode_mesh_part_geo(const MeshPart& part) {
+  check_part(part);
+  const PointTable& v = part.vertices;
+  const PointTable& e = part.element_columns;
+  const std::vector<Eigen::Vector3d> x = positions(v);
+  // One attribute per column (vx vy vz as the vector v); int for the integer columns.
+  struct Attribute {
+    std::string name;
+    std::vector<const std::vector<double>*> values;
+    bool integer;
+  };
+  auto attributes_of = [](const PointTable& t, bool points) {
+    std::vector<Attribute> out;
+    for (size_t c = 0; c < t.names.size(); ++c) {
+      const std::string& n = t.names[c];
+      if (points && (n == "x" || n == "y" || n == "z" || n == "vy" || n == "vz")) continue;
+      const bool integer = t.types[c] == ColumnType::Int32 || t.types[c] == ColumnType::UInt8;
+      if (points && n == "vx")
+        out.push_back({"v",
+                       {&t.columns[c], t.has("vy") ? &t.column("vy") : nullptr,
+                        t.has("vz") ? &t.column("vz") : nullptr},
+                       false});
+      else
+        out.push_back({n, {&t.columns[c]}, integer});
+    }
+    return out;
+  };
+  const std::vector<Attribute> pa = attributes_of(v, true), ea = attributes_of(e, false);
+  auto header = [](const std::vector<Attribute>& a) {
+    std::string h;
+    for (const Attribute& at : a) {
+      h += at.name + " " + std::to_string(at.values.size()) + (at.integer ? " int" : " float");
+      for (size_t k = 0; k < at.values.size(); ++k) h += " 0";
+      h += "\n";
+    }
+    return h;
+  };
+  auto values = [](const std::vector<Attribute>& a, size_t row) {
+    std::string out;
+    for (const Attribute& at : a)
+      for (const std::vector<double>* c : at.values) {
+        const double value = c ? (*c)[row] : 0.0;
+        out += (out.empty() ? "" : " ") + (at.integer ? std::to_string(int64_t(value))
+                                                       : shortest_text(float(value)));
+      }
+    return out;
+  };
+  std::string out = "PGEOMETRY V5\nNPoints " + std::to_string(x.size()) + " NPrims " +
+                    std::to_string(part.elements.size()) +
+                    "\nNPointGroups 0 NPrimGroups 0\nNPointAttrib " + std::to_string(pa.size()) +
+                    " NVertexAttrib 0 NPrimAttrib " + std::to_string(ea.size()) + " NAttrib 0\n";
+  if (!pa.empty()) out += "PointAttrib\n" + header(pa);
+  for (size_t i = 0; i < x.size(); ++i) {
+    out += shortest_text(float(x[i].x())) + " " + shortest_text(float(x[i].y())) + " " +
+           shortest_text(float(x[i].z())) + " 1";
+    if (!pa.empty()) out += " (" + values(pa, i) + ")";
+    out += "\n";
+  }
+  if (!ea.empty() && !part.elements.empty()) out += "PrimitiveAttrib\n" + header(ea);
+  if (!part.elements.empty()) out += "Run " + std::to_string(part.elements.size()) + " Poly\n";
+  // Triangles are closed polygons ("<"), segments open ones (":").
+  const char* closed = part.corners == 3 ? " < " : " : ";
+  for (size_t k = 0; k < part.elements.size(); ++k) {
+    out += std::to_string(part.corners) + closed;
+    for (int c = 0; c < part.corners; ++c)
+      out += (c ? " " : "") + std::to_string(part.elements[k][size_t(c)]);
+    if (!ea.empty()) out += " [" + values(ea, k) + "]";
+    out += "\n";
+  }
+  out += "beginExtra\nendExtra\n";
   return out;
 }
 

@@ -21,7 +21,8 @@ struct MeshPart {
   PointTable element_columns;  // one row per element: id, contact, ...
 };
 
-// The formats a mesh part can be written in (scene output.mesh_formats): "ply", "obj", "vtu".
+// The formats a mesh part can be written in (scene output.mesh_formats): "ply", "obj", "vtu",
+// "geo".
 const std::vector<std::string>& mesh_part_formats();
 // The part encoded in `format` (one of mesh_part_formats()).
 std::string encode_mesh_part(const MeshPart& part, const std::string& format);
@@ -39,6 +40,13 @@ std::string encode_mesh_part_obj(const MeshPart& part);
 // PointData (vx vy vz as "velocity"), triangles (VTK_TRIANGLE) or segments (VTK_LINE) as cells
 // with the element columns as CellData.
 std::string encode_mesh_part_vtu(const MeshPart& part);
+// Houdini's classic ASCII geometry (.geo; the layout of sidefx.com/docs/houdini/io/formats/geo
+// and of VTK's vtkHoudiniPolyDataWriter): "PGEOMETRY V5", the counts, the point attributes
+// (vx vy vz as the vector "v", the other vertex columns by name; int or float), each point as
+// "x y z 1 (values)", the element columns as primitive attributes, then "Run N Poly" and one
+// polygon per element, "3 < a b c [values]" (closed) for triangles and "2 : a b [values]"
+// (open) for segments (0-based point numbers), and "beginExtra" / "endExtra".
+std::string encode_mesh_part_geo(const MeshPart& part);
 // DIR/PART.pvd: a ParaView collection of DIR/frames/NNNNN.PART.vtu at the given frame times.
 void write_mesh_part_pvd(const std::string& dir, const std::string& part,
                          const std::map<int, double>& times);
