@@ -662,8 +662,9 @@ struct Tracer {
       c = shade(ctx, hit.p, hit.n, hit.ng, hit.albedo, sm, s);
       // Cloth and hair lie on a collider with their vertices, and their flat triangles and
       // straight segments cut into a round one between them: a collider less than mesh_gap
-      // in front of them is taken to be under them.
-      depth = hit.codim ? t - mesh_gap : t;
+      // in front of them (along their normal: further along a grazing ray) is taken to be
+      // under them.
+      depth = hit.codim ? t - mesh_gap / std::max(std::abs(d.dot(hit.ng)), 0.2) : t;
     } else {
       c = background(py / stage.camera.height);
       if (std::isfinite(t_ground)) {
