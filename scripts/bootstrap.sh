@@ -13,9 +13,10 @@ mode=${1:-demo}
 packages=(cmake ninja-build g++ pkg-config libeigen3-dev libtbb-dev nlohmann-json3-dev
           libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev python3
           libembree-dev libpng-dev ffmpeg
-          libopenvdb-dev libboost-iostreams-dev)
+          libopenvdb-dev libboost-iostreams-dev libnglib-dev)
 # libboost-iostreams-dev: Debian's libopenvdb-dev does not pull in the Boost headers that the
 # OpenVDB headers include, nor the Boost iostreams that its CMake find module requires.
+# libnglib-dev: netgen, the FEM bodies' mesher (docs/fem.md).
 
 missing=()
 for p in "${packages[@]}"; do

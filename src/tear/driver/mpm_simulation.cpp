@@ -429,7 +429,7 @@ class MpmSimulation final : public Simulation {
 
 }  // namespace
 
-std::unique_ptr<Simulation> make_simulation(const Scene& scene) {
+std::unique_ptr<Simulation> make_mpm_simulation(const Scene& scene) {
   if (scene.dim == 2) return std::make_unique<MpmSimulation<2>>(scene);
   return std::make_unique<MpmSimulation<3>>(scene);
 }

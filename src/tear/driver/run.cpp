@@ -577,6 +577,16 @@ int check_scene(const std::string& scene_path, const std::vector<std::string>& o
             << (surface ? ob.thickness : ob.radius) << "\n";
         continue;
       }
+      if (ob.fem) {
+        const std::vector<MeshFigures> meshes = sim->body_meshes();
+        const MeshFigures& f = meshes.at(i);
+        out << ", FEM mesh of " << f.nodes << " nodes, " << f.elements
+            << (s.dim == 2 ? " triangles" : " tetrahedra") << " (mesh_size " << ob.mesh_size
+            << ", mean edge " << f.mean_edge << "), worst quality " << f.worst_quality
+            << " (element " << f.worst_element << "), smallest height " << f.smallest_height
+            << "\n";
+        continue;
+      }
       for (const RegionSpec& r : ob.regions)
         out << " (" << s.materials[size_t(r.material)].name << " in a "
             << objects.at(i).at("regions").at(&r - ob.regions.data()).at("shape").at("type").get<std::string>()
@@ -603,7 +613,10 @@ int check_scene(const std::string& scene_path, const std::vector<std::string>& o
     const size_t checkpoint_max = sim->checkpoint_bytes_max();
     // Frame 0, every output_every-th frame, and the last frame.
     const int written = 1 + s.frames / s.output_every + (s.frames % s.output_every != 0 ? 1 : 0);
-    out << "particles  " << sim->num_particles() << "\n";
+    if (!s.objects.empty() && s.objects[0].fem)
+      out << "nodes      " << sim->num_particles() << " (FEM: frames list the nodes)\n";
+    else
+      out << "particles  " << sim->num_particles() << "\n";
     out << "time       " << s.frames << " frames of " << s.frame_dt << " s; dt " << dt
         << " s at rest (about " << std::lround(std::ceil(s.frame_dt / dt))
         << " steps per frame), set by " << limits.limiting() << "\n";

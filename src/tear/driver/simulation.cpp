@@ -2,6 +2,11 @@
 
 namespace tear {
 
+std::unique_ptr<Simulation> make_simulation(const Scene& scene) {
+  if (!scene.objects.empty() && scene.objects[0].fem) return make_fem_simulation(scene);
+  return make_mpm_simulation(scene);
+}
+
 nlohmann::json FrameStats::to_json() const {
   auto vec = [](const Vec3d& v) { return nlohmann::json::array({v[0], v[1], v[2]}); };
   nlohmann::json j = {{"frame", frame},

@@ -4,6 +4,7 @@
 // fem/), with io/ for tables and checkpoint records.
 #pragma once
 
+#include "tear/fem/mesh.h"
 #include "tear/io/binary.h"
 #include "tear/io/mesh_frames.h"
 #include "tear/io/point_table.h"
@@ -98,6 +99,9 @@ class Simulation {
   // The codimensional parts of the frame (io/mesh_frames.h): one per kind of mesh the state
   // holds ("curves", "surfaces"), none for a state of solids only.
   virtual std::vector<MeshPart> frame_meshes() const { return {}; }
+  // The figures of each FEM body's mesh (node and element counts, quality, the smallest height),
+  // in object order; none for MPM.
+  virtual std::vector<MeshFigures> body_meshes() const { return {}; }
   // Wall seconds spent so far in each phase of the step, in step order (for people).
   virtual std::vector<std::pair<std::string, double>> phase_seconds() const = 0;
   // Bytes of memory now held by particles and grid.
@@ -117,7 +121,11 @@ class Simulation {
   virtual void decode_checkpoint(const std::string& bytes) = 0;
 };
 
-// The simulation a scene describes (today always MPM), its particles sampled from the scene.
+// The simulation a scene describes: FEM where its objects are "simulation": "fem" bodies
+// (driver/fem_simulation.cpp, their meshes made), else MPM (driver/mpm_simulation.cpp, its
+// particles sampled from the scene).
 std::unique_ptr<Simulation> make_simulation(const Scene& scene);
+std::unique_ptr<Simulation> make_mpm_simulation(const Scene& scene);
+std::unique_ptr<Simulation> make_fem_simulation(const Scene& scene);
 
 }  // namespace tear

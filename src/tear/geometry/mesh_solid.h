@@ -53,6 +53,9 @@ class MeshSolid {
   size_t num_triangles() const { return triangles_.size(); }
   size_t num_vertices() const { return vertices_.size(); }
   bool turned_inside_out() const { return turned_; }
+  // The merged vertices and the outward-oriented triangles (in BVH order).
+  const std::vector<Vec3d>& vertices() const { return vertices_; }
+  const std::vector<std::array<int, 3>>& triangles() const { return triangles_; }
 
  private:
   using Tri = std::array<int, 3>;

@@ -46,13 +46,11 @@ Shape placed_shape(const Collider& c, const ColliderState& s) {
   return placed;
 }
 
-template <int Dim>
-NodeContacts<Dim>::NodeContacts(const SparseGrid<Dim>& grid, ContactType walls,
-                                const std::vector<Collider>& colliders, double time)
-    : grid_(grid), walls_(walls), colliders_(colliders), n_nodes_(grid.num_nodes()) {
+ColliderContacts::ColliderContacts(const std::vector<Collider>& colliders, double time)
+    : colliders_(colliders) {
   for (const Collider& col : colliders) states_.push_back(collider_state(col, time));
-  // World boxes around the moved colliders: nodes outside skip the signed distance (the boxes
-  // are a little larger than the shapes, so no node inside is skipped; half-spaces: no box).
+  // World boxes around the moved colliders: points outside skip the signed distance (the boxes
+  // are a little larger than the shapes, so no point inside is skipped; half-spaces: no box).
   for (size_t c = 0; c < colliders.size(); ++c) {
     Vec3d lo = Vec3d::Constant(-std::numeric_limits<double>::infinity()), hi = -lo;
     if (colliders[c].shape.type != Shape::Type::HalfSpace) {
@@ -72,6 +70,11 @@ NodeContacts<Dim>::NodeContacts(const SparseGrid<Dim>& grid, ContactType walls,
     boxes_.emplace_back(lo, hi);
   }
 }
+
+template <int Dim>
+NodeContacts<Dim>::NodeContacts(const SparseGrid<Dim>& grid, ContactType walls,
+                                const std::vector<Collider>& colliders, double time)
+    : grid_(grid), walls_(walls), colliders_(colliders, time), n_nodes_(grid.num_nodes()) {}
 
 template <int Dim>
 void apply_colliders(SparseGrid<Dim>& grid, ContactType walls,

@@ -50,6 +50,41 @@ ColliderState collider_state(const Collider& c, double time);
 // (for pictures: render/ draws shapes, not colliders).
 Shape placed_shape(const Collider& c, const ColliderState& state);
 
+// The active colliders at one time, tested at any point (a grid node, an FEM node).
+class ColliderContacts {
+ public:
+  ColliderContacts(const std::vector<Collider>& colliders, double time);
+
+  // fn(n, v_wall, type, friction) for each active collider whose moved shape holds p, in scene
+  // order: n the collider's unit normal pointing into the material side, v_wall its velocity at p.
+  template <int Dim, class Fn>
+  void visit(const Vec3d& p, Fn&& fn) const;
+  bool empty() const { return states_.empty(); }
+
+ private:
+  const std::vector<Collider>& colliders_;
+  std::vector<ColliderState> states_;
+  std::vector<std::pair<Vec3d, Vec3d>> boxes_;  // world boxes around the moved colliders
+};
+
+template <int Dim, class Fn>
+void ColliderContacts::visit(const Vec3d& p, Fn&& fn) const {
+  for (size_t c = 0; c < colliders_.size(); ++c) {
+    const ColliderState& s = states_[c];
+    if (!s.active) continue;
+    if ((p.array() < boxes_[c].first.array()).any() || (p.array() > boxes_[c].second.array()).any())
+      continue;
+    const Collider& col = colliders_[c];
+    const Vec3d centre = s.center0 + s.displacement;
+    const Vec3d q = s.center0 + s.rotation.transpose() * (p - centre);
+    if (!col.shape.inside(q)) continue;
+    const Vec3d n3 = s.rotation * col.shape.normal_at(q);
+    const Vec3d vw3 = col.velocity + col.angular_velocity.cross(p - centre);
+    fn(Vec<Dim>(n3.template head<Dim>().template cast<Real>().normalized()),
+       Vec<Dim>(vw3.template head<Dim>().template cast<Real>()), col.type, Real(col.friction));
+  }
+}
+
 // The boundaries touching grid nodes at one time: the domain walls (nodes within kWallNodes of a
 // face) and every active collider whose moved shape holds the node. apply_colliders and an
 // implicit solve's velocity constraints share it.
@@ -68,9 +103,7 @@ class NodeContacts {
  private:
   const SparseGrid<Dim>& grid_;
   ContactType walls_;
-  const std::vector<Collider>& colliders_;
-  std::vector<ColliderState> states_;
-  std::vector<std::pair<Vec3d, Vec3d>> boxes_;  // world boxes around the moved colliders
+  ColliderContacts colliders_;
   IVec<Dim> n_nodes_;
 };
 
@@ -90,32 +123,20 @@ void NodeContacts<Dim>::visit(int node, Fn&& fn) const {
       fn(n, Vec<Dim>::Zero().eval(), walls_, Real(0));
     }
   }
-  if (states_.empty()) return;
+  if (colliders_.empty()) return;
   Vec3d p = Vec3d::Zero();
   p.template head<Dim>() = grid_.node_position(node).template cast<double>();
-  for (size_t c = 0; c < colliders_.size(); ++c) {
-    const ColliderState& s = states_[c];
-    if (!s.active) continue;
-    if ((p.array() < boxes_[c].first.array()).any() || (p.array() > boxes_[c].second.array()).any())
-      continue;
-    const Collider& col = colliders_[c];
-    const Vec3d centre = s.center0 + s.displacement;
-    const Vec3d q = s.center0 + s.rotation.transpose() * (p - centre);
-    if (!col.shape.inside(q)) continue;
-    const Vec3d n3 = s.rotation * col.shape.normal_at(q);
-    const Vec3d vw3 = col.velocity + col.angular_velocity.cross(p - centre);
-    fn(Vec<Dim>(n3.template head<Dim>().template cast<Real>().normalized()),
-       Vec<Dim>(vw3.template head<Dim>().template cast<Real>()), col.type, Real(col.friction));
-  }
+  colliders_.visit<Dim>(p, fn);
 }
 
-// I minus the projector onto the directions of a node's velocity that its boundaries hold:
-// all for a sticky one, the normal for slip, and for separate the normal unless the node
-// (velocity v) leaves it. What an implicit solve or a velocity projection may change there.
-template <int Dim>
-Mat<Dim> free_directions(const NodeContacts<Dim>& contacts, int node, const Vec<Dim>& v) {
+// I minus the projector onto the directions of a velocity v that the boundaries `visit` calls
+// back with (visit(fn) as NodeContacts::visit(node, fn)) hold: all for a sticky one, the normal
+// for slip, and for separate the normal unless v leaves it. What an implicit solve or a velocity
+// projection may change there.
+template <int Dim, class Visit>
+Mat<Dim> free_directions_at(Visit&& visit, const Vec<Dim>& v) {
   Mat<Dim> fixed = Mat<Dim>::Zero();  // sum of e e^T over the fixed directions
-  contacts.visit(node, [&](const Vec<Dim>& n, const Vec<Dim>& v_wall, ContactType type, Real) {
+  visit([&](const Vec<Dim>& n, const Vec<Dim>& v_wall, ContactType type, Real) {
     if (type == ContactType::Sticky) {
       fixed.setIdentity();
       return;
@@ -128,6 +149,12 @@ Mat<Dim> free_directions(const NodeContacts<Dim>& contacts, int node, const Vec<
     fixed += e * e.transpose();
   });
   return Mat<Dim>::Identity() - fixed;
+}
+
+// The same for a grid node.
+template <int Dim>
+Mat<Dim> free_directions(const NodeContacts<Dim>& contacts, int node, const Vec<Dim>& v) {
+  return free_directions_at<Dim>([&](auto&& fn) { contacts.visit(node, fn); }, v);
 }
 
 // Apply domain walls and every active collider to the grid velocities at `time` (both fields

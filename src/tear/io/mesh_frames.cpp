@@ -337,7 +337,7 @@ MeshPart decode_mesh_part_ply(const std::string& bytes) {
 }
 
 const std::vector<std::string>& mesh_part_names() {
-  static const std::vector<std::string> names{"curves", "surfaces"};
+  static const std::vector<std::string> names{"curves", "surfaces", "fem"};
   return names;
 }
 

@@ -14,7 +14,7 @@
 namespace tear {
 
 struct MeshPart {
-  std::string name;  // "curves" or "surfaces": the file's part name
+  std::string name;  // "curves", "surfaces" or "fem": the file's part name
   int corners = 3;   // 2: segments, 3: triangles
   PointTable vertices;  // id, x y z, vx vy vz, ... (row k is vertex k)
   std::vector<std::array<uint32_t, 3>> elements;  // vertex rows (segments use the first two)
@@ -56,7 +56,8 @@ void write_mesh_part_pvd(const std::string& dir, const std::string& part,
 // index out of range.
 MeshPart decode_mesh_part_ply(const std::string& bytes);
 
-// The part names a run writes: "curves", "surfaces".
+// The part names a run writes: "curves", "surfaces" (codimensional bodies), "fem" (the surfaces
+// of FEM bodies: driver/fem_simulation.cpp).
 const std::vector<std::string>& mesh_part_names();
 // The codimensional parts of frame `frame` of the run folder `dir`, read from their PLY files
 // (DIR/frames/NNNNN.PART.ply, the default output.mesh_formats); none where the frame has none.

@@ -380,13 +380,16 @@ void scale_resolution(const std::string& path, json* doc, double k) {
     time["max_dt"] = max_dt / k;
   }
   if (doc->contains("objects") && (*doc)["objects"].is_array()) {
-    const json& objects = (*doc)["objects"];
+    json& objects = (*doc)["objects"];
     for (size_t i = 0; i < objects.size(); ++i) {
-      const json& o = objects[i];
+      json& o = objects[i];
       if (o.is_object() && o.contains("shape") && o["shape"].is_object() &&
           o["shape"].value("type", "") == "particles")
         throw SceneError(path, index_path("objects", i) + ".shape",
                          "a particle file keeps its points: --resolution cannot refine it");
+      // An FEM body's explicit mesh size refines with the grid (its default is grid.dx).
+      if (o.is_object() && o.contains("mesh_size") && o["mesh_size"].is_number())
+        o["mesh_size"] = o["mesh_size"].get<double>() / k;
     }
   }
 }
@@ -489,6 +492,17 @@ Scene parse_scene(const json& doc, const std::string& file) {
              "crack fields are not supported with inextensible materials (materials." + m.name +
                  " is): remove the key");
   out["objects"] = parse_objects(r, doc, &s);
+  // FEM bodies (docs/fem.md): a scene is all FEM or all MPM until the two are coupled.
+  for (size_t i = 0; i < s.objects.size(); ++i)
+    if (s.objects[i].fem != s.objects[0].fem)
+      r.fail(index_path("objects", i) + ".simulation",
+             std::string("is \"") + (s.objects[i].fem ? "fem" : "mpm") + "\" but objects[0] is \"" +
+                 (s.objects[0].fem ? "fem" : "mpm") +
+                 "\": FEM and MPM bodies do not share a scene yet (they do not interact); run them "
+                 "as two scenes");
+  if (!s.objects.empty() && s.objects[0].fem && s.damage.solver != DamageSolver::None)
+    r.fail("damage.solver", "FEM bodies take no damage yet: remove the materials' damage blocks "
+                            "or set \"none\"");
   for (size_t i = 0; i < s.objects.size(); ++i) {
     if (s.objects[i].kind == ObjectKind::Volume) continue;
     // The assembled Hessian that multigrid coarsens has no room for an element's corners'

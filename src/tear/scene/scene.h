@@ -100,6 +100,10 @@ struct ObjectSpec {
   std::vector<RegionSpec> regions;  // in priority order; particles in none keep the above
   // A "particles" object: its points (not sampled); `shape` is then their bounding box.
   std::shared_ptr<const PointSet> points;
+  // "simulation": "fem": the body is a tetrahedral (triangle) mesh of the shape with edges of
+  // about mesh_size (default grid.dx), simulated by fem/ (docs/fem.md), not sampled.
+  bool fem = false;
+  double mesh_size = 0;
 };
 
 // Preview rendering defaults ("render" section) for `tear render` and `tear run --render`;

@@ -224,10 +224,20 @@ json parse_object(const Reader& r, const json& o, const std::string& path, const
   spec->kind = ObjectKind(r.choice(o, path, "kind", {"volume", "surface", "curves"}, 0));
   if (spec->kind != ObjectKind::Volume) return parse_codim_object(r, o, path, scene, index, spec);
   r.object(o, path,
-           {"kind", "shape", "material", "ppc", "sampling", "velocity", "angular_velocity",
-            "fibers", "regions"});
+           {"kind", "simulation", "mesh_size", "shape", "material", "ppc", "sampling", "velocity",
+            "angular_velocity", "fibers", "regions"});
   json out;
   out["kind"] = "volume";
+  spec->fem = r.choice(o, path, "simulation", {"mpm", "fem"}, 0) == 1;
+  out["simulation"] = spec->fem ? "fem" : "mpm";
+  if (spec->fem) {
+    spec->mesh_size = r.number(o, path, "mesh_size", scene.dx);
+    r.check(spec->mesh_size > 0 && std::isfinite(spec->mesh_size), key_path(path, "mesh_size"),
+            "must be a positive length, got " + num_str(spec->mesh_size));
+    out["mesh_size"] = spec->mesh_size;
+  } else if (r.find(o, "mesh_size")) {
+    r.fail(key_path(path, "mesh_size"), "is for \"simulation\": \"fem\" objects only");
+  }
   const json* sj = r.find(o, "shape");
   if (!sj) r.fail(key_path(path, "shape"), "required");
   if (sj->is_object() && sj->contains("type") && (*sj)["type"] == "particles")
@@ -243,8 +253,27 @@ json parse_object(const Reader& r, const json& o, const std::string& path, const
                 num_str(lo[i]) + ", " + num_str(hi[i]) + "], domain [" +
                 num_str(scene.domain_min[i]) + ", " + num_str(scene.domain_max[i]) + "])");
 
+  if (spec->fem) {
+    const Shape::Type t = spec->shape.type;
+    const bool meshable = t == Shape::Type::Box || t == Shape::Type::Sphere ||
+                          t == Shape::Type::Cylinder || (r.dim == 3 && t == Shape::Type::Mesh);
+    if (spec->points || !meshable)
+      r.fail(key_path(path, "shape"),
+             std::string("an FEM body is meshed from a box, sphere, cylinder") +
+                 (r.dim == 3 ? " or mesh" : "") + " shape (docs/fem.md), got " +
+                 (spec->points ? std::string("particles") : out["shape"].value("type", "?")));
+  }
   spec->material = material_index(r, o, path, scene, &out);
   const Model model = scene.materials[size_t(spec->material)].params.model;
+  if (spec->fem) {
+    const MaterialSpec& m = scene.materials[size_t(spec->material)];
+    const char* refused = m.plasticity.surface != YieldSurface::None ? "plasticity"
+                          : m.inextensibility.enabled             ? "inextensibility"
+                                                                  : nullptr;
+    if (refused)
+      r.fail(key_path(path, "material"), "material \"" + m.name + "\" has " + refused +
+                                             ", which FEM bodies do not take yet (docs/fem.md)");
+  }
   if (model_codimension(model) != 0)
     r.fail(key_path(path, "material"),
            "material \"" + out["material"].get<std::string>() + "\" is " + model_name(model) +
@@ -272,6 +301,10 @@ json parse_object(const Reader& r, const json& o, const std::string& path, const
            "\"from_file\" needs a \"particles\" shape whose file has the columns fx, fy" +
                std::string(r.dim == 3 ? ", fz" : "") + " (and f2x, f2y" +
                (r.dim == 3 ? ", f2z" : "") + " for a second fiber)");
+  if (spec->fem && (spec->fibers.type == FiberField::Flow ||
+                    spec->fibers.type == FiberField::FromFile))
+    r.fail(key_path(key_path(path, "fibers"), "type"),
+           "FEM bodies take constant, radial, circumferential, longitudinal or random fibers");
   out["regions"] = parse_regions(r, o, path, scene, out["fibers"], spec);
   return out;
 }

@@ -1,0 +1,543 @@
+#include "tear/fem/fem.h"
+
+#include "tear/exec/parallel.h"
+#include "tear/grid/collider.h"
+#include "tear/solvers/newton.h"
+
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace tear {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+template <int Dim>
+using ElementVector = Eigen::Matrix<Real, Dim*(Dim + 1), 1>;
+
+// The corner gradients of the element's linear shape functions at rest: F = sum_a x_a g_a^T.
+template <int Dim>
+std::array<Vec<Dim>, Dim + 1> shape_gradients(const Mat<Dim>& rest_inverse) {
+  std::array<Vec<Dim>, Dim + 1> g;
+  g[0] = Vec<Dim>::Zero();
+  for (int a = 1; a <= Dim; ++a) {
+    g[size_t(a)] = rest_inverse.row(a - 1).transpose();
+    g[0] -= g[size_t(a)];
+  }
+  return g;
+}
+
+template <int Dim>
+const MaterialParams& material_of(const MpmSettings& s, const FemState<Dim>& st, size_t e) {
+  return s.materials[st.elements.material[e]];
+}
+
+// Walls (a node within kWallNodes cells of a domain face, as the MPM grid's wall nodes) and
+// colliders at node position p: fn(n, v_wall, type, friction) as NodeContacts::visit.
+template <int Dim, class Fn>
+void visit_contacts(const MpmSettings& s, const ColliderContacts& colliders, const Vec<Dim>& x,
+                    Fn&& fn) {
+  if (s.walls != ContactType::None) {
+    const double width = kWallNodes * s.dx;
+    for (int d = 0; d < Dim; ++d) {
+      Vec<Dim> n = Vec<Dim>::Zero();
+      if (double(x[d]) < s.domain_min[d] + width)
+        n[d] = 1;
+      else if (double(x[d]) > s.domain_max[d] - width)
+        n[d] = -1;
+      else
+        continue;
+      fn(n, Vec<Dim>::Zero().eval(), s.walls, Real(0));
+    }
+  }
+  if (colliders.empty()) return;
+  Vec3d p = Vec3d::Zero();
+  p.template head<Dim>() = x.template cast<double>();
+  colliders.visit<Dim>(p, fn);
+}
+
+template <int Dim>
+void apply_node_contacts(const MpmSettings& s, FemState<Dim>* st) {
+  const ColliderContacts colliders(s.colliders, st->time);
+  Particles<Dim>& p = st->nodes;
+  parallel_for(p.size(), [&](size_t i) {
+    visit_contacts<Dim>(s, colliders, p.x[i],
+                        [&](const Vec<Dim>& n, const Vec<Dim>& vw, ContactType type, Real mu) {
+                          p.v[i] = contact_velocity<Dim>(p.v[i], vw, n, type, mu);
+                        });
+  });
+}
+
+template <int Dim>
+void explicit_fem_step(const MpmSettings& s, FemState<Dim>* st, double dt) {
+  Particles<Dim>& p = st->nodes;
+  std::vector<Vec<Dim>> grad;
+  fem_elastic_gradient(s, *st, p.x, &grad);
+  const Vec<Dim> g = s.gravity.head<Dim>().template cast<Real>();
+  const Real h = Real(dt);
+  parallel_for(p.size(), [&](size_t i) { p.v[i] += h * (g - grad[i] / p.mass[i]); });
+  apply_node_contacts(s, st);
+  parallel_for(p.size(), [&](size_t i) { p.x[i] += h * p.v[i]; });
+}
+
+}  // namespace
+
+// The implicit solve's matrix M + dt^2 K over the nodes' Dim unknowns each, with its sparsity
+// fixed by the elements (both triangles stored), the place of every element block in it, and
+// its LDL^T factor (Eigen's SimplicialLDLT: its ordering analysed once).
+template <int Dim>
+class FemAssembly {
+ public:
+  static constexpr int kCorners = Dim + 1;
+  explicit FemAssembly(const FemState<Dim>& st) {
+    const Eigen::Index n = Eigen::Index(st.num_nodes() * Dim);
+    std::vector<Eigen::Triplet<double>> t;
+    t.reserve(st.elements.size() * kCorners * kCorners * Dim * Dim + size_t(n));
+    for (Eigen::Index i = 0; i < n; ++i) t.emplace_back(i, i, 0.0);
+    for (size_t e = 0; e < st.elements.size(); ++e)
+      for (uint32_t a : st.elements.corners[e])
+        for (uint32_t b : st.elements.corners[e])
+          for (int i = 0; i < Dim; ++i)
+            for (int j = 0; j < Dim; ++j) t.emplace_back(a * Dim + i, b * Dim + j, 0.0);
+    matrix.resize(n, n);
+    matrix.setFromTriplets(t.begin(), t.end());
+    matrix.makeCompressed();
+    // Where each element block's column starts: its Dim rows are consecutive there.
+    offset.resize(st.elements.size() * kCorners * kCorners * Dim);
+    const auto find = [&](Eigen::Index row, Eigen::Index col) {
+      const int* begin = matrix.innerIndexPtr() + matrix.outerIndexPtr()[col];
+      const int* end = matrix.innerIndexPtr() + matrix.outerIndexPtr()[col + 1];
+      return int(std::lower_bound(begin, end, int(row)) - matrix.innerIndexPtr());
+    };
+    parallel_for(st.elements.size(), [&](size_t e) {
+      const auto& c = st.elements.corners[e];
+      for (int a = 0; a < kCorners; ++a)
+        for (int b = 0; b < kCorners; ++b)
+          for (int j = 0; j < Dim; ++j)
+            offset[((e * kCorners + size_t(a)) * kCorners + size_t(b)) * Dim + size_t(j)] =
+                find(Eigen::Index(c[size_t(a)]) * Dim, Eigen::Index(c[size_t(b)]) * Dim + j);
+    });
+    diagonal.resize(size_t(n));
+    for (Eigen::Index i = 0; i < n; ++i) diagonal[size_t(i)] = find(i, i);
+  }
+
+  Eigen::SparseMatrix<double> matrix;
+  std::vector<int> offset, diagonal;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> factor;
+  bool analysed = false;
+};
+
+namespace {
+
+// The incremental potential of one backward Euler step over the node velocities v (Dim per
+// node): sum_i m_i / 2 |v_i - v*_i|^2 + E(x^n + dt v), with v* = v^n + dt g after contact, and
+// each node's velocity held in the directions its boundaries fix (free_directions_at).
+// solvers/newton.h's problem; the "preconditioner" is the exact factor (direct) or the diagonal.
+template <int Dim>
+class FemPotential {
+ public:
+  FemPotential(const MpmSettings& s, FemState<Dim>& st, Real dt)
+      : s_(s), st_(st), dt_(dt), n_(st.num_nodes()) {
+    const Particles<Dim>& p = st.nodes;
+    const Vec<Dim> g = s.gravity.head<Dim>().template cast<Real>();
+    v_star_.resize(n_);
+    parallel_for(n_, [&](size_t i) { v_star_[i] = p.v[i] + dt * g; });
+    const ColliderContacts colliders(s.colliders, st.time);
+    free_.resize(n_);
+    parallel_for(n_, [&](size_t i) {
+      const auto visit = [&](auto&& fn) { visit_contacts<Dim>(s, colliders, p.x[i], fn); };
+      visit([&](const Vec<Dim>& n, const Vec<Dim>& vw, ContactType type, Real mu) {
+        v_star_[i] = contact_velocity<Dim>(v_star_[i], vw, n, type, mu);
+      });
+      free_[i] = free_directions_at<Dim>(visit, v_star_[i]);
+    });
+    x_.resize(n_);
+    grad_.resize(n_);
+    if (!st.assembly) st.assembly = std::make_shared<FemAssembly<Dim>>(st);
+    direct_ = s.implicit_preconditioner != ImplicitPreconditioner::Jacobi;
+  }
+
+  std::vector<Real> initial() const {
+    std::vector<Real> v(n_ * Dim);
+    for (size_t i = 0; i < n_; ++i) std::copy_n(v_star_[i].data(), Dim, &v[i * Dim]);
+    return v;
+  }
+
+  void positions(const std::vector<Real>& v) {
+    const Particles<Dim>& p = st_.nodes;
+    parallel_for(n_, [&](size_t i) {
+      x_[i] = p.x[i] + dt_ * Eigen::Map<const Vec<Dim>>(&v[i * Dim]);
+    });
+  }
+
+  double energy(const std::vector<Real>& v) {
+    positions(v);
+    const Particles<Dim>& p = st_.nodes;
+    const double kinetic = deterministic_sum<double>(n_, [&](size_t i) {
+      return 0.5 * double(p.mass[i]) *
+             double((Eigen::Map<const Vec<Dim>>(&v[i * Dim]) - v_star_[i]).squaredNorm());
+    });
+    return kinetic + fem_elastic_energy(s_, st_, x_);
+  }
+
+  void gradient(const std::vector<Real>& v, std::vector<Real>& g) {
+    positions(v);
+    fem_elastic_gradient(s_, st_, x_, &grad_);
+    const Particles<Dim>& p = st_.nodes;
+    parallel_for(n_, [&](size_t i) {
+      const Vec<Dim> gi =
+          p.mass[i] * (Eigen::Map<const Vec<Dim>>(&v[i * Dim]) - v_star_[i]) + dt_ * grad_[i];
+      Eigen::Map<Vec<Dim>> out(&g[i * Dim]);
+      out = free_[i] * gi;
+    });
+  }
+
+  // The largest velocity change a node still needs, as a distance moved in a step over the
+  // length scale dx (the MPM integrator's measure, docs/fem.md).
+  double residual(const std::vector<Real>& g) const {
+    const Particles<Dim>& p = st_.nodes;
+    const Real worst = parallel_max<Real>(
+        n_, [&](size_t i) { return Eigen::Map<const Vec<Dim>>(&g[i * Dim]).norm() / p.mass[i]; },
+        Real(0));
+    return double(worst) * double(dt_) / s_.dx;
+  }
+
+  void prepare_hessian(const std::vector<Real>& v) {
+    positions(v);
+    FemAssembly<Dim>& A = *st_.assembly;
+    double* values = A.matrix.valuePtr();
+    std::fill(values, values + A.matrix.nonZeros(), 0.0);
+    const FemElements<Dim>& el = st_.elements;
+    constexpr int kC = Dim + 1;
+    std::vector<Eigen::MatrixXd> h(el.size());
+    parallel_for(el.size(), [&](size_t e) { h[e] = fem_element_hessian(s_, st_, x_, e); });
+    const double dt2 = double(dt_) * double(dt_);
+    for (size_t e = 0; e < el.size(); ++e) {  // in element order: the same sums every time
+      const auto& c = el.corners[e];
+      for (int a = 0; a < kC; ++a)
+        for (int b = 0; b < kC; ++b) {
+          const Mat<Dim> block = free_[c[size_t(a)]] *
+                                 h[e].block<Dim, Dim>(a * Dim, b * Dim).template cast<Real>() *
+                                 free_[c[size_t(b)]];
+          for (int j = 0; j < Dim; ++j) {
+            double* col = values + A.offset[((e * kC + size_t(a)) * kC + size_t(b)) * Dim + size_t(j)];
+            for (int i = 0; i < Dim; ++i) col[i] += dt2 * double(block(i, j));
+          }
+        }
+    }
+    const Particles<Dim>& p = st_.nodes;
+    for (size_t i = 0; i < n_; ++i) {
+      const Mat<Dim> fixed = Mat<Dim>::Identity() - free_[i];
+      for (int a = 0; a < Dim; ++a) {
+        values[A.diagonal[i * Dim + size_t(a)]] += double(p.mass[i]);
+        // The fixed directions: the identity (they are not unknowns; it keeps the factor
+        // definite), entered where the block has them.
+        for (int b = 0; b < Dim; ++b)
+          if (fixed(a, b) != 0) A.matrix.coeffRef(Eigen::Index(i * Dim) + a,
+                                                  Eigen::Index(i * Dim) + b) += double(fixed(a, b));
+      }
+    }
+    if (direct_) {
+      if (!A.analysed) {
+        A.factor.analyzePattern(A.matrix);
+        A.analysed = true;
+      }
+      A.factor.factorize(A.matrix);
+    }
+  }
+
+  void apply_hessian(const std::vector<Real>& d, std::vector<Real>& y) {
+    const FemAssembly<Dim>& A = *st_.assembly;
+    Eigen::VectorXd dd(Eigen::Index(d.size()));
+    for (size_t k = 0; k < d.size(); ++k) dd[Eigen::Index(k)] = double(d[k]);
+    const Eigen::VectorXd yy = A.matrix * dd;
+    parallel_for(n_, [&](size_t i) {
+      Vec<Dim> yi, di;
+      for (int a = 0; a < Dim; ++a) {
+        yi[a] = Real(yy[Eigen::Index(i * Dim) + a]);
+        di[a] = d[i * Dim + size_t(a)];
+      }
+      Eigen::Map<Vec<Dim>> out(&y[i * Dim]);
+      out = free_[i] * (yi - (Mat<Dim>::Identity() - free_[i]) * di);
+    });
+  }
+
+  void precondition(const std::vector<Real>& r, std::vector<Real>& z) {
+    const FemAssembly<Dim>& A = *st_.assembly;
+    if (direct_) {
+      Eigen::VectorXd rr(Eigen::Index(r.size()));
+      for (size_t k = 0; k < r.size(); ++k) rr[Eigen::Index(k)] = double(r[k]);
+      const Eigen::VectorXd zz = A.factor.solve(rr);
+      for (size_t k = 0; k < z.size(); ++k) z[k] = Real(zz[Eigen::Index(k)]);
+    } else {
+      for (size_t k = 0; k < z.size(); ++k) z[k] = Real(r[k] / A.matrix.valuePtr()[A.diagonal[k]]);
+    }
+    parallel_for(n_, [&](size_t i) {
+      Eigen::Map<Vec<Dim>> zi(&z[i * Dim]);
+      zi = free_[i] * Vec<Dim>(zi);
+    });
+  }
+
+  bool active(size_t) const { return true; }
+
+ private:
+  const MpmSettings& s_;
+  FemState<Dim>& st_;
+  Real dt_;
+  size_t n_;
+  bool direct_ = true;
+  std::vector<Vec<Dim>> v_star_, x_, grad_;
+  std::vector<Mat<Dim>> free_;
+};
+
+template <int Dim>
+void implicit_fem_step(const MpmSettings& s, FemState<Dim>* st, double dt, FemSolveStats* stats) {
+  FemPotential<Dim> potential(s, *st, Real(dt));
+  std::vector<Real> v = potential.initial();
+  NewtonSettings ns = s.newton;
+  if (s.implicit_preconditioner != ImplicitPreconditioner::Jacobi) ns.cg_escalate_after = 0;
+  const NewtonResult r = newton_minimize(potential, &v, ns);
+  Particles<Dim>& p = st->nodes;
+  parallel_for(p.size(), [&](size_t i) { p.v[i] = Eigen::Map<const Vec<Dim>>(&v[i * Dim]); });
+  apply_node_contacts(s, st);  // friction on the solved velocities
+  const Real h = Real(dt);
+  parallel_for(p.size(), [&](size_t i) { p.x[i] += h * p.v[i]; });
+  if (stats) {
+    ++stats->solves;
+    stats->newton_iterations += r.iterations;
+    stats->newton_iterations_max = std::max(stats->newton_iterations_max, r.iterations);
+    stats->cg_iterations += r.cg_iterations;
+    stats->residual_max = std::max(stats->residual_max, r.residual);
+    if (!r.converged) ++stats->unconverged;
+  }
+}
+
+}  // namespace
+
+template <int Dim>
+void append_fem_body(const FemMesh& mesh, const std::vector<MaterialParams>& materials,
+                     const std::function<ElementSetup<Dim>(const Vec3d&, size_t)>& setup,
+                     const Vec3d& velocity, const Vec3d& angular_velocity, const Vec3d& centre,
+                     FemState<Dim>* st) {
+  FemBody body;
+  Particles<Dim>& p = st->nodes;
+  body.node_begin = p.size();
+  body.element_begin = st->elements.size();
+  body.face_begin = st->faces.size();
+  const uint32_t base = uint32_t(p.size());
+  for (const Vec3d& x : mesh.nodes) {
+    const Vec3d w = Dim == 2 ? Vec3d(0, 0, angular_velocity.z()) : angular_velocity;
+    const Vec3d v = velocity + w.cross(x - centre);
+    p.push_back(x.head<Dim>().template cast<Real>(), v.head<Dim>().template cast<Real>(),
+                Mat<Dim>::Identity(), Real(0), Real(0), 0);
+  }
+  std::vector<bool> named(mesh.nodes.size(), false);
+  FemElements<Dim>& el = st->elements;
+  for (size_t e = 0; e < mesh.elements.size(); ++e) {
+    typename FemElements<Dim>::Corners c;
+    Mat<Dim> Dm;
+    Vec3d centroid = Vec3d::Zero();
+    for (int a = 0; a <= Dim; ++a) {
+      c[size_t(a)] = base + uint32_t(mesh.elements[e][size_t(a)]);
+      centroid += mesh.nodes[size_t(mesh.elements[e][size_t(a)])] / (Dim + 1);
+    }
+    for (int a = 1; a <= Dim; ++a)
+      Dm.col(a - 1) = (p.x[c[size_t(a)]] - p.x[c[0]]);
+    const double volume = element_volume(mesh, e);
+    const ElementSetup<Dim> made = setup(centroid, e);
+    el.corners.push_back(c);
+    el.rest_inverse.push_back(Dm.inverse());
+    el.vol0.push_back(Real(volume));
+    el.material.push_back(made.material);
+    el.fiber.push_back(made.fiber);
+    for (uint32_t k : c) {
+      p.mass[k] += Real(materials[made.material].rho * volume / (Dim + 1));
+      if (!named[k - base]) p.material[k] = made.material, named[k - base] = true;
+    }
+  }
+  for (std::array<int, 3> f : boundary_faces(mesh)) {
+    for (int& k : f)
+      if (k >= 0) k += int(base);
+    st->faces.push_back(f);
+  }
+  body.node_end = p.size();
+  body.element_end = el.size();
+  body.face_end = st->faces.size();
+  st->bodies.push_back(body);
+  const MeshFigures fig = mesh_figures(mesh);
+  st->smallest_height = st->bodies.size() == 1 ? fig.smallest_height
+                                               : std::min(st->smallest_height, fig.smallest_height);
+  // Incidence, rebuilt over all bodies.
+  st->incident_begin.assign(p.size() + 1, 0);
+  for (const auto& cs : el.corners)
+    for (uint32_t k : cs) ++st->incident_begin[k + 1];
+  for (size_t i = 0; i < p.size(); ++i) st->incident_begin[i + 1] += st->incident_begin[i];
+  st->incident.resize(el.size() * (Dim + 1));
+  std::vector<uint32_t> fill(st->incident_begin.begin(), st->incident_begin.end() - 1);
+  for (size_t e = 0; e < el.size(); ++e)
+    for (int a = 0; a <= Dim; ++a)
+      st->incident[fill[el.corners[e][size_t(a)]]++] = uint32_t(e * (Dim + 1) + size_t(a));
+  st->assembly.reset();
+}
+
+template <int Dim>
+Mat<Dim> fem_deformation(const FemState<Dim>& st, const std::vector<Vec<Dim>>& x, size_t e) {
+  const auto& c = st.elements.corners[e];
+  Mat<Dim> Ds;
+  for (int a = 1; a <= Dim; ++a) Ds.col(a - 1) = x[c[size_t(a)]] - x[c[0]];
+  return Ds * st.elements.rest_inverse[e];
+}
+
+template <int Dim>
+double fem_elastic_energy(const MpmSettings& s, const FemState<Dim>& st,
+                          const std::vector<Vec<Dim>>& x) {
+  const FemElements<Dim>& el = st.elements;
+  return deterministic_sum<double>(el.size(), [&](size_t e) {
+    return double(el.vol0[e]) * double(energy_density<Dim>(material_of(s, st, e),
+                                                            fem_deformation(st, x, e), el.fiber[e]));
+  });
+}
+
+template <int Dim>
+void fem_elastic_gradient(const MpmSettings& s, const FemState<Dim>& st,
+                          const std::vector<Vec<Dim>>& x, std::vector<Vec<Dim>>* gradient) {
+  const FemElements<Dim>& el = st.elements;
+  // Each element's corner forces, then each node's sum over its elements in element order.
+  std::vector<Vec<Dim>> corner(el.size() * (Dim + 1));
+  parallel_for(el.size(), [&](size_t e) {
+    const Mat<Dim> P = first_piola<Dim>(material_of(s, st, e), fem_deformation(st, x, e),
+                                        el.fiber[e]);
+    const auto g = shape_gradients<Dim>(el.rest_inverse[e]);
+    for (int a = 0; a <= Dim; ++a) corner[e * (Dim + 1) + size_t(a)] = el.vol0[e] * (P * g[size_t(a)]);
+  });
+  gradient->resize(st.num_nodes());
+  parallel_for(st.num_nodes(), [&](size_t i) {
+    Vec<Dim> sum = Vec<Dim>::Zero();
+    for (uint32_t k = st.incident_begin[i]; k < st.incident_begin[i + 1]; ++k)
+      sum += corner[st.incident[k]];
+    (*gradient)[i] = sum;
+  });
+}
+
+template <int Dim>
+Eigen::MatrixXd fem_element_hessian(const MpmSettings& s, const FemState<Dim>& st,
+                                    const std::vector<Vec<Dim>>& x, size_t e) {
+  const FemElements<Dim>& el = st.elements;
+  const StressDerivative<Dim> A = projected_stress_derivative<Dim>(
+      material_of(s, st, e), fem_deformation(st, x, e), el.fiber[e]);
+  const auto g = shape_gradients<Dim>(el.rest_inverse[e]);
+  // vec(dF) = G dx: column block a is g_a (x) I.
+  Eigen::Matrix<double, Dim * Dim, Dim*(Dim + 1)> G = decltype(G)::Zero();
+  for (int a = 0; a <= Dim; ++a)
+    for (int j = 0; j < Dim; ++j)
+      for (int i = 0; i < Dim; ++i) G(i + Dim * j, a * Dim + i) = double(g[size_t(a)][j]);
+  return double(el.vol0[e]) * (G.transpose() * A.template cast<double>() * G);
+}
+
+template <int Dim>
+DtLimits fem_dt_limits(const MpmSettings& s, const FemState<Dim>& st) {
+  DtLimits l;
+  l.max_dt = s.max_dt;
+  l.damage = l.damage_cracking = kInf;
+  double c = 0;
+  for (const MaterialParams& m : s.materials) c = std::max(c, double(wave_speed(m)));
+  const double h = st.smallest_height;
+  l.wave = s.integrator == Integrator::Explicit && c > 0 ? s.cfl * h / c : kInf;
+  const Particles<Dim>& p = st.nodes;
+  const Real v2 = parallel_max<Real>(p.size(), [&](size_t i) { return p.v[i].squaredNorm(); }, 0);
+  l.velocity = v2 > 0 ? s.cfl * h / std::sqrt(double(v2)) : kInf;
+  return l;
+}
+
+template <int Dim>
+double fem_step(const MpmSettings& s, FemState<Dim>* st, double dt, FemSolveStats* stats) {
+  if (s.integrator == Integrator::Implicit)
+    implicit_fem_step(s, st, dt, stats);
+  else
+    explicit_fem_step(s, st, dt);
+  st->time += dt;
+  ++st->steps;
+  return dt;
+}
+
+template <int Dim>
+FemFigures measure_fem(const MpmSettings& s, const FemState<Dim>& st) {
+  const Particles<Dim>& p = st.nodes;
+  FemFigures f;
+  struct Sums {
+    double m = 0, ke = 0;
+    Vec3d mom = Vec3d::Zero(), am = Vec3d::Zero();
+    Sums& operator+=(const Sums& o) {
+      m += o.m, ke += o.ke, mom += o.mom, am += o.am;
+      return *this;
+    }
+  };
+  const Sums sums = deterministic_sum<Sums>(p.size(), [&](size_t i) {
+    Vec3d x = Vec3d::Zero(), v = Vec3d::Zero();
+    x.head<Dim>() = p.x[i].template cast<double>();
+    v.head<Dim>() = p.v[i].template cast<double>();
+    const double m = double(p.mass[i]);
+    return Sums{m, 0.5 * m * v.squaredNorm(), m * v, m * x.cross(v)};
+  });
+  f.mass = sums.m;
+  f.kinetic_energy = sums.ke;
+  f.momentum = sums.mom;
+  f.angular_momentum = sums.am;
+  f.elastic_energy = fem_elastic_energy(s, st, p.x);
+  return f;
+}
+
+template <int Dim>
+long find_fem_fault(const MpmSettings& s, const FemState<Dim>& st) {
+  const Particles<Dim>& p = st.nodes;
+  for (size_t i = 0; i < p.size(); ++i) {
+    if (!p.x[i].allFinite() || !p.v[i].allFinite()) return long(i);
+    for (int d = 0; d < Dim; ++d)
+      if (double(p.x[i][d]) < s.domain_min[d] || double(p.x[i][d]) > s.domain_max[d])
+        return long(i);
+  }
+  return -1;
+}
+
+template <int Dim>
+size_t fem_memory_bytes(const FemState<Dim>& st) {
+  const FemElements<Dim>& el = st.elements;
+  size_t bytes = st.nodes.memory_bytes();
+  bytes += el.size() * (sizeof(typename FemElements<Dim>::Corners) + 2 * sizeof(Mat<Dim>) +
+                        sizeof(Real) + sizeof(uint16_t));
+  bytes += st.incident.size() * sizeof(uint32_t) + st.faces.size() * sizeof(st.faces[0]);
+  if (st.assembly) {
+    const FemAssembly<Dim>& a = *st.assembly;
+    bytes += size_t(a.matrix.nonZeros()) * (sizeof(double) + sizeof(int)) +
+             a.offset.size() * sizeof(int) + a.diagonal.size() * sizeof(int);
+    if (a.analysed) bytes += size_t(a.factor.matrixL().nestedExpression().nonZeros()) * 12;
+  }
+  return bytes;
+}
+
+#define TEAR_FEM(D)                                                                               \
+  template class FemAssembly<D>;                                                                  \
+  template void append_fem_body<D>(const FemMesh&, const std::vector<MaterialParams>&,            \
+                                   const std::function<ElementSetup<D>(const Vec3d&, size_t)>&,   \
+                                   const Vec3d&, const Vec3d&, const Vec3d&, FemState<D>*);       \
+  template Mat<D> fem_deformation<D>(const FemState<D>&, const std::vector<Vec<D>>&, size_t);     \
+  template double fem_elastic_energy<D>(const MpmSettings&, const FemState<D>&,                   \
+                                        const std::vector<Vec<D>>&);                              \
+  template void fem_elastic_gradient<D>(const MpmSettings&, const FemState<D>&,                   \
+                                        const std::vector<Vec<D>>&, std::vector<Vec<D>>*);        \
+  template Eigen::MatrixXd fem_element_hessian<D>(const MpmSettings&, const FemState<D>&,         \
+                                                  const std::vector<Vec<D>>&, size_t);            \
+  template DtLimits fem_dt_limits<D>(const MpmSettings&, const FemState<D>&);                     \
+  template double fem_step<D>(const MpmSettings&, FemState<D>*, double, FemSolveStats*);          \
+  template FemFigures measure_fem<D>(const MpmSettings&, const FemState<D>&);                     \
+  template long find_fem_fault<D>(const MpmSettings&, const FemState<D>&);                      \
+  template size_t fem_memory_bytes<D>(const FemState<D>&);
+TEAR_FEM(2)
+TEAR_FEM(3)
+
+}  // namespace tear

@@ -1,0 +1,455 @@
+// fem/: element forces and Hessians against differences of the energy, the patch test, a bar
+// hanging under its own weight (rho g L^2 / 2E), its axial frequency (c / 4L), momentum and
+// angular momentum of a spinning body, the implicit integrator's energy, same bits on any
+// thread count, and the meshes netgen makes (volumes, determinism, checks).
+#include "tear/driver/simulation.h"
+#include "tear/exec/threads.h"
+#include "tear/fem/fem.h"
+#include "tear/materials/registry.h"
+#include "tear/scene/scene.h"
+
+#include <Eigen/Eigenvalues>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <random>
+
+namespace tear {
+namespace {
+
+// A box [lo, hi] split into n cells per unit of `cells`, each cell into 6 tetrahedra (Kuhn) or
+// 2 triangles: a structured mesh that needs no mesher.
+FemMesh structured_box(int dim, const Vec3d& lo, const Vec3d& hi, const std::array<int, 3>& n) {
+  FemMesh m;
+  m.dim = dim;
+  const int nz = dim == 3 ? n[2] : 0;
+  const auto id = [&](int i, int j, int k) { return (k * (n[1] + 1) + j) * (n[0] + 1) + i; };
+  for (int k = 0; k <= nz; ++k)
+    for (int j = 0; j <= n[1]; ++j)
+      for (int i = 0; i <= n[0]; ++i) {
+        Vec3d x = lo;
+        x.x() += (hi.x() - lo.x()) * i / n[0];
+        x.y() += (hi.y() - lo.y()) * j / n[1];
+        if (dim == 3) x.z() += (hi.z() - lo.z()) * k / nz;
+        m.nodes.push_back(x);
+      }
+  for (int k = 0; k < std::max(nz, 1); ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i) {
+        if (dim == 2) {
+          m.elements.push_back({id(i, j, 0), id(i + 1, j, 0), id(i + 1, j + 1, 0), -1});
+          m.elements.push_back({id(i, j, 0), id(i + 1, j + 1, 0), id(i, j + 1, 0), -1});
+          continue;
+        }
+        // The six tetrahedra around the diagonal from corner 0 to corner 7.
+        int c[8];
+        for (int b = 0; b < 8; ++b) c[b] = id(i + (b & 1), j + ((b >> 1) & 1), k + ((b >> 2) & 1));
+        const int paths[6][2] = {{1, 3}, {1, 5}, {2, 3}, {2, 6}, {4, 5}, {4, 6}};
+        for (const auto& p : paths) m.elements.push_back({c[0], c[p[0]], c[p[0] | p[1]], c[7]});
+      }
+  orient_elements(&m);
+  return m;
+}
+
+MpmSettings settings_of(Model model, double E, double nu, double rho, int dim) {
+  MpmSettings s;
+  s.dx = 0.05;
+  s.domain_min = Vec3d::Constant(-10);
+  s.domain_max = Vec3d::Constant(10);
+  if (dim == 2) s.domain_min.z() = s.domain_max.z() = 0;
+  s.walls = ContactType::None;
+  s.materials = {make_material(model, Real(E), Real(nu), Real(rho), model == Model::QrAniso ? 2 : 0,
+                               model == Model::QrAniso ? 1 : 0)};
+  return s;
+}
+
+template <int Dim>
+FemState<Dim> state_of(const FemMesh& mesh, const MpmSettings& s, const Mat<Dim>& fiber) {
+  FemState<Dim> st;
+  append_fem_body<Dim>(
+      mesh, s.materials, [&](const Vec3d&, size_t) { return ElementSetup<Dim>{0, fiber}; },
+      Vec3d::Zero(), Vec3d::Zero(), Vec3d::Zero(), &st);
+  return st;
+}
+
+template <int Dim>
+Mat<Dim> rotation(double angle) {
+  Mat<Dim> R = Mat<Dim>::Identity();
+  if constexpr (Dim == 2) {
+    R << Real(std::cos(angle)), Real(-std::sin(angle)), Real(std::sin(angle)), Real(std::cos(angle));
+  } else {
+    R = Eigen::AngleAxis<Real>(Real(angle), Vec<3>(1, 2, 3).normalized()).toRotationMatrix();
+  }
+  return R;
+}
+
+template <int Dim>
+void check_derivatives(Model model) {
+  SCOPED_TRACE(std::string(model_name(model)) + " " + std::to_string(Dim) + "D");
+  const MpmSettings s = settings_of(model, 1e4, 0.3, 1000, Dim);
+  const FemMesh mesh =
+      structured_box(Dim, Vec3d::Zero(), Vec3d(0.2, 0.1, 0.1), {2, 1, 1});
+  const FemState<Dim> st = state_of<Dim>(mesh, s, rotation<Dim>(0.4));
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<Vec<Dim>> x = st.nodes.x;
+  for (Vec<Dim>& xi : x)
+    for (int a = 0; a < Dim; ++a) xi[a] += Real(0.01 * u(rng));
+  std::vector<Vec<Dim>> g;
+  fem_elastic_gradient(s, st, x, &g);
+  const double h = 1e-6;
+  double worst = 0, scale = 0;
+  for (size_t i = 0; i < x.size(); ++i)
+    for (int a = 0; a < Dim; ++a) {
+      std::vector<Vec<Dim>> xp = x, xm = x;
+      xp[i][a] += Real(h), xm[i][a] -= Real(h);
+      const double fd = (fem_elastic_energy(s, st, xp) - fem_elastic_energy(s, st, xm)) / (2 * h);
+      worst = std::max(worst, std::abs(fd - double(g[i][a])));
+      scale = std::max(scale, std::abs(double(g[i][a])));
+    }
+  EXPECT_LT(worst, 1e-6 * scale) << "gradient against central differences of the energy";
+  // Each element's Hessian against differences of its own corner forces: on one element
+  // stretched 3 % (where the projection changes nothing: compressed, the rotations' eigenvalues
+  // of the corotated models turn negative and are clipped).
+  FemMesh single;
+  single.dim = Dim;
+  for (int k = 0; k <= Dim; ++k) single.nodes.push_back(mesh.nodes[size_t(mesh.elements[0][size_t(k)])]);
+  single.elements.push_back({0, 1, 2, Dim == 3 ? 3 : -1});
+  const FemState<Dim> one_st = state_of<Dim>(single, s, rotation<Dim>(0.4));
+  std::vector<Vec<Dim>> y = one_st.nodes.x;
+  for (Vec<Dim>& yi : y)
+    for (int a = 0; a < Dim; ++a) yi[a] = Real(1.03) * yi[a] + Real(0.0005 * u(rng));
+  const Eigen::MatrixXd H = fem_element_hessian(s, one_st, y, 0);
+  double hworst = 0, hscale = H.cwiseAbs().maxCoeff();
+  for (int j = 0; j < (Dim + 1) * Dim; ++j) {
+    std::vector<Vec<Dim>> yp = y, ym = y, gp, gm;
+    yp[size_t(j / Dim)][j % Dim] += Real(h);
+    ym[size_t(j / Dim)][j % Dim] -= Real(h);
+    fem_elastic_gradient(s, one_st, yp, &gp);
+    fem_elastic_gradient(s, one_st, ym, &gm);
+    for (int i = 0; i < (Dim + 1) * Dim; ++i) {
+      const double fd = double(gp[size_t(i / Dim)][i % Dim] - gm[size_t(i / Dim)][i % Dim]) / (2 * h);
+      hworst = std::max(hworst, std::abs(fd - H(i, j)));
+    }
+  }
+  EXPECT_LT(hworst, 1e-5 * hscale) << "Hessian against central differences of the forces";
+  EXPECT_GT(H.selfadjointView<Eigen::Lower>().eigenvalues().minCoeff(), -1e-8 * hscale);
+}
+
+TEST(FemElements, ForcesAndHessiansMatchDifferencesOfTheEnergy) {
+  for (Model m : {Model::FixedCorotated, Model::NeoHookean, Model::StvkHencky, Model::QrAniso}) {
+    check_derivatives<2>(m);
+    check_derivatives<3>(m);
+  }
+}
+
+// Any uniform deformation x -> A x + b leaves no force on interior nodes (the patch test), for
+// a linear and a nonlinear model, on netgen's unstructured meshes.
+template <int Dim>
+void patch_test(Model model) {
+  const MpmSettings s = settings_of(model, 1e5, 0.3, 1000, Dim);
+  Shape box;
+  box.type = Shape::Type::Box;
+  box.dim = Dim;
+  box.min = Vec3d(0, 0, 0);
+  box.max = Vec3d(0.4, 0.3, Dim == 3 ? 0.3 : 0);
+  const FemMesh mesh = mesh_shape(box, Dim, 0.08);
+  const FemState<Dim> st = state_of<Dim>(mesh, s, Mat<Dim>::Identity());
+  Mat<Dim> A = Mat<Dim>::Identity();
+  A(0, 0) = Real(1.1), A(0, 1) = Real(0.05), A(1, 0) = Real(-0.03), A(1, 1) = Real(0.95);
+  std::vector<Vec<Dim>> x = st.nodes.x;
+  for (Vec<Dim>& xi : x) xi = A * xi + Vec<Dim>::Constant(Real(0.2));
+  std::vector<Vec<Dim>> g;
+  fem_elastic_gradient(s, st, x, &g);
+  std::vector<bool> boundary(x.size(), false);
+  for (const std::array<int, 3>& f : st.faces)
+    for (int k = 0; k < Dim; ++k) boundary[size_t(f[size_t(k)])] = true;
+  double interior = 0, edge = 0;
+  int inner = 0;
+  for (size_t i = 0; i < x.size(); ++i) {
+    if (boundary[i]) {
+      edge = std::max(edge, double(g[i].norm()));
+    } else {
+      interior = std::max(interior, double(g[i].norm()));
+      ++inner;
+    }
+  }
+  EXPECT_GT(inner, 3);
+  EXPECT_GT(edge, 0);
+  EXPECT_LT(interior, 1e-10 * edge) << inner << " interior nodes";
+}
+
+TEST(FemElements, PatchTestLeavesNoInteriorForce) {
+  patch_test<2>(Model::FixedCorotated);
+  patch_test<2>(Model::NeoHookean);
+  patch_test<3>(Model::FixedCorotated);
+  patch_test<3>(Model::QrAniso);
+}
+
+Scene scene_of(const std::string& text) { return load_scene_text(text, "fem_test.json"); }
+
+// A bar of length L held at its top end hangs under its own weight: its bottom drops
+// rho g L^2 / (2 E) (nu = 0: no lateral contraction to restrain at the grip). Backward Euler with
+// long steps damps the motion away and leaves the static state.
+TEST(FemDynamics, HangingBarStretchesByRhoGLSquaredOverTwoE) {
+  for (int dim : {2, 3}) {
+    SCOPED_TRACE(dim);
+    const std::string z = dim == 3 ? ", 0.45" : "";
+    const std::string z2 = dim == 3 ? ", 0.55" : "";
+    const Scene s = scene_of(R"({"dim": )" + std::to_string(dim) + R"(,
+      "grid": {"dx": 0.05, "domain_min": [0, 0)" + (dim == 3 ? ", 0" : std::string()) +
+                             R"(], "domain_max": [1, 1.5)" + (dim == 3 ? ", 1" : std::string()) +
+                             R"(], "walls": "none"},
+      "time": {"frame_dt": 0.5, "frames": 8, "max_dt": 0.05},
+      "gravity": [0, -9.81)" + (dim == 3 ? ", 0" : std::string()) + R"(], "integrator": "implicit",
+      "materials": {"steel": {"model": "fixed_corotated", "E": 1e6, "nu": 0, "rho": 1000}},
+      "objects": [{"simulation": "fem", "mesh_size": 0.05, "material": "steel",
+                   "shape": {"type": "box", "min": [0.45, 0.2)" + z + R"(], "max": [0.55, 1.2)" + z2 + R"(]}}],
+      "boundaries": [{"type": "sticky", "shape": {"type": "box", "min": [0.3, 1.19)" +
+                             (dim == 3 ? ", 0.3" : std::string()) + R"(], "max": [0.7, 1.3)" +
+                             (dim == 3 ? ", 0.7" : std::string()) + R"(]}}]})");
+    auto sim = make_simulation(s);
+    const PointTable before = sim->frame_table();
+    for (int f = 0; f < 8; ++f) sim->advance_frame();
+    const PointTable& after = sim->frame_table();
+    const std::vector<double>& y0 = before.column("y");
+    const std::vector<double> y1 = after.column("y");
+    double drop = 0;
+    int bottom = 0;
+    for (size_t i = 0; i < y0.size(); ++i)
+      if (y0[i] < 0.2 + 1e-6) drop += y0[i] - y1[i], ++bottom;
+    drop /= bottom;
+    const double expected = 1000 * 9.81 * 1.0 * 1.0 / (2 * 1e6);
+    EXPECT_NEAR(drop, expected, 0.03 * expected) << bottom << " nodes at the bottom";
+    EXPECT_LT(sim->collect_stats().kinetic_energy, 1e-6);
+  }
+}
+
+// A bar fixed at one end vibrates along its axis at f = c / (4 L), c = sqrt(E / rho) (2D strip,
+// nu = 0). Explicit steps; the period from the free end's velocity changing sign.
+TEST(FemDynamics, BarVibratesAlongItsAxisAtCOverFourL) {
+  MpmSettings s = settings_of(Model::FixedCorotated, 1e4, 0, 1, 2);
+  s.cfl = 0.5;
+  s.max_dt = 1;
+  const double L = 1;
+  FemMesh mesh = structured_box(2, Vec3d::Zero(), Vec3d(L, 0.05, 0), {40, 2, 1});
+  FemState<2> st = state_of<2>(mesh, s, Mat<2>::Identity());
+  Collider grip;
+  grip.type = ContactType::Sticky;
+  grip.shape.type = Shape::Type::Box;
+  grip.shape.dim = 2;
+  grip.shape.min = Vec3d(-0.1, -0.1, 0);
+  grip.shape.max = Vec3d(0.001, 0.2, 0);
+  s.colliders = {grip};
+  // A small initial velocity growing along the bar (mostly its first mode).
+  for (size_t i = 0; i < st.num_nodes(); ++i) st.nodes.v[i] = Vec<2>(Real(0.01 * std::sin(M_PI / 2 * st.nodes.x[i].x() / L)), 0);
+  std::vector<size_t> tip;
+  for (size_t i = 0; i < st.num_nodes(); ++i)
+    if (st.nodes.x[i].x() > L - 1e-9) tip.push_back(i);
+  const auto tip_v = [&] {
+    double v = 0;
+    for (size_t i : tip) v += double(st.nodes.v[i].x());
+    return v;
+  };
+  std::vector<double> crossings;
+  double prev = tip_v();
+  while (st.time < 0.2) {
+    const double dt = fem_dt_limits(s, st).dt();
+    fem_step(s, &st, dt, nullptr);
+    const double v = tip_v();
+    if ((prev > 0) != (v > 0)) crossings.push_back(st.time - dt * v / (v - prev));
+    prev = v;
+  }
+  ASSERT_GE(crossings.size(), 6u);
+  const double period = 2 * (crossings[5] - crossings[1]) / 4;
+  const double expected = 4 * L / std::sqrt(1e4 / 1.0);
+  EXPECT_NEAR(period, expected, 0.01 * expected);
+}
+
+// Explicit steps of a free, spinning, deformed body keep its momentum and angular momentum to
+// round-off (internal forces sum to zero, and so do their moments: symplectic Euler then keeps
+// sum m x^n x v exactly).
+TEST(FemDynamics, SpinningBodyKeepsMomentumAndAngularMomentum) {
+  MpmSettings s = settings_of(Model::NeoHookean, 1e4, 0.3, 1000, 3);
+  const FemMesh mesh = structured_box(3, Vec3d::Zero(), Vec3d(0.3, 0.2, 0.1), {3, 2, 1});
+  FemState<3> st;
+  append_fem_body<3>(mesh, s.materials, [](const Vec3d&, size_t) { return ElementSetup<3>{}; },
+                     Vec3d(0.5, 0, 0), Vec3d(1, 2, 3), Vec3d(0.15, 0.1, 0.05), &st);
+  for (size_t i = 0; i < st.num_nodes(); ++i) st.nodes.x[i] *= Real(1.05);  // stressed
+  const FemFigures a = measure_fem(s, st);
+  for (int k = 0; k < 200; ++k) fem_step(s, &st, fem_dt_limits(s, st).dt(), nullptr);
+  const FemFigures b = measure_fem(s, st);
+  EXPECT_LT((a.momentum - b.momentum).norm(), 1e-12 * a.momentum.norm());
+  EXPECT_LT((a.angular_momentum - b.angular_momentum).norm(), 1e-10 * a.angular_momentum.norm());
+  EXPECT_GT(a.elastic_energy, 0);
+}
+
+// Backward Euler dissipates: without forcing, kinetic plus elastic energy never rises from a step
+// to the next; and the result is the same bits on one thread and on two.
+TEST(FemDynamics, ImplicitEnergyNeverRisesAndBitsDoNotDependOnThreads) {
+  MpmSettings s = settings_of(Model::QrAniso, 1e4, 0.3, 1000, 3);
+  s.integrator = Integrator::Implicit;
+  s.max_dt = 0.01;
+  const FemMesh mesh = structured_box(3, Vec3d::Zero(), Vec3d(0.3, 0.2, 0.1), {3, 2, 1});
+  std::vector<Vec<3>> last;
+  for (int threads : {1, 2}) {
+    const ThreadLimit limit(threads);
+    FemState<3> st;
+    append_fem_body<3>(mesh, s.materials,
+                       [](const Vec3d&, size_t) { return ElementSetup<3>{0, rotation<3>(0.3)}; },
+                       Vec3d::Zero(), Vec3d(0, 0, 4), Vec3d(0.15, 0.1, 0.05), &st);
+    for (size_t i = 0; i < st.num_nodes(); ++i) st.nodes.x[i].x() *= Real(1.2);
+    FemSolveStats stats;
+    double energy = 1e300;
+    for (int k = 0; k < 30; ++k) {
+      const FemFigures f = measure_fem(s, st);
+      const double e = f.kinetic_energy + f.elastic_energy;
+      EXPECT_LE(e, energy * (1 + 1e-12)) << "step " << k;
+      energy = e;
+      fem_step(s, &st, s.max_dt, &stats);
+    }
+    EXPECT_EQ(stats.unconverged, 0);
+    if (threads == 2) {
+      EXPECT_EQ(0, std::memcmp(last.data(), st.nodes.x.data(), last.size() * sizeof(last[0])));
+    }
+    last = st.nodes.x;
+  }
+}
+
+TEST(FemMeshes, NetgenMeshesHaveTheShapesVolumeAndAreTheSameEachTime) {
+  Shape disk;
+  disk.type = Shape::Type::Sphere;
+  disk.dim = 2;
+  disk.center = Vec3d(0.5, 0.5, 0);
+  disk.radius = 0.3;
+  const FemMesh a = mesh_shape(disk, 2, 0.05), b = mesh_shape(disk, 2, 0.05);
+  check_fem_mesh(a, "disk");
+  EXPECT_EQ(a.nodes, b.nodes);
+  EXPECT_EQ(a.elements, b.elements);
+  EXPECT_NEAR(mesh_figures(a).volume, M_PI * 0.09, 0.01 * M_PI * 0.09);
+  EXPECT_GT(mesh_figures(a).worst_quality, 0.5);
+  Shape ball = disk;
+  ball.dim = 3;
+  ball.center.z() = 0.5;
+  const FemMesh c = mesh_shape(ball, 3, 0.05);
+  check_fem_mesh(c, "ball");
+  EXPECT_NEAR(mesh_figures(c).volume, 4.0 / 3 * M_PI * 0.027, 0.03 * 4.0 / 3 * M_PI * 0.027);
+  Shape box;
+  box.type = Shape::Type::Box;
+  box.min = Vec3d(0, 0, 0);
+  box.max = Vec3d(0.5, 0.2, 0.1);
+  box.transform.rotate = Eigen::AngleAxisd(0.3, Vec3d::UnitZ()).toRotationMatrix();
+  const FemMesh d = mesh_shape(box, 3, 0.05);
+  check_fem_mesh(d, "box");
+  EXPECT_NEAR(mesh_figures(d).volume, 0.01, 1e-12);
+  EXPECT_GT(mesh_figures(d).worst_quality, 0.2);
+}
+
+TEST(FemMeshes, BadMeshesAreRefusedNamingTheElement) {
+  const FemMesh good = structured_box(3, Vec3d::Zero(), Vec3d(1, 1, 1), {2, 1, 1});
+  EXPECT_NO_THROW(check_fem_mesh(good, "m"));
+  const auto message = [](const FemMesh& m) {
+    try {
+      check_fem_mesh(m, "m.msh");
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  FemMesh inverted = good;
+  std::swap(inverted.elements[3][1], inverted.elements[3][2]);
+  EXPECT_EQ(message(inverted).rfind("m.msh: element 3 is inverted", 0), 0u) << message(inverted);
+  FemMesh flat = good;
+  flat.nodes[size_t(flat.elements[0][3])] = flat.nodes[size_t(flat.elements[0][0])] * 0.5 +
+                                            flat.nodes[size_t(flat.elements[0][1])] * 0.5;
+  EXPECT_NE(message(flat).find("degenerate"), std::string::npos) << message(flat);
+  FemMesh range = good;
+  range.elements[2][0] = 99;
+  EXPECT_NE(message(range).find("element 2 refers to node 99"), std::string::npos);
+  FemMesh unused = good;
+  unused.nodes.push_back(Vec3d(5, 5, 5));
+  EXPECT_NE(message(unused).find("belongs to no element"), std::string::npos);
+  FemMesh two = good;
+  const int n = int(two.nodes.size());
+  for (Vec3d x : good.nodes) two.nodes.push_back(x + Vec3d(3, 0, 0));
+  for (std::array<int, 4> t : good.elements) {
+    for (int& k : t) k += n;
+    two.elements.push_back(t);
+  }
+  EXPECT_NE(message(two).find("not connected"), std::string::npos) << message(two);
+  FemMesh third = good;
+  third.nodes.push_back(Vec3d(0.3, 0.3, -0.5));
+  const std::array<int, 3> f = {third.elements[0][0], third.elements[0][1], third.elements[0][2]};
+  third.elements.push_back({f[0], f[2], f[1], n});
+  third.elements.push_back({f[0], f[1], f[2], n});
+  orient_elements(&third);
+  EXPECT_NE(message(third).find("not a manifold"), std::string::npos) << message(third);
+}
+
+TEST(FemScene, MixedAndUnsupportedScenesAreRefused) {
+  const std::string head = R"({"dim": 2, "grid": {"dx": 0.05, "domain_min": [0, 0], "domain_max": [1, 1]},
+      "time": {"frame_dt": 0.04, "frames": 1},
+      "materials": {"m": {"model": "fixed_corotated", "E": 1e4, "nu": 0.3, "rho": 1000}},
+      "objects": [)";
+  const std::string fem =
+      R"({"simulation": "fem", "material": "m", "shape": {"type": "box", "min": [0.2, 0.2], "max": [0.4, 0.4]}})";
+  const auto error = [&](const std::string& objects) {
+    try {
+      scene_of(head + objects + "]}");
+    } catch (const SceneError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(error(fem), "accepted");
+  EXPECT_NE(error(fem + R"(, {"material": "m", "shape": {"type": "box", "min": [0.5, 0.5], "max": [0.6, 0.6]}})")
+                .find("objects[1].simulation: is \"mpm\" but objects[0] is \"fem\""),
+            std::string::npos);
+  EXPECT_NE(error(R"({"simulation": "fem", "mesh_size": -1, "material": "m", "shape": {"type": "box", "min": [0.2, 0.2], "max": [0.4, 0.4]}})")
+                .find("objects[0].mesh_size: must be a positive length"),
+            std::string::npos);
+  EXPECT_NE(error(R"({"simulation": "fem", "material": "m", "shape": {"type": "tube", "center": [0.5, 0.5], "axis": [1, 0], "radius": 0.2, "inner_radius": 0.1, "height": 0.3}})")
+                .find("objects[0].shape: an FEM body is meshed from a box, sphere, cylinder"),
+            std::string::npos);
+  EXPECT_NE(error(R"({"material": "m", "mesh_size": 0.1, "shape": {"type": "box", "min": [0.2, 0.2], "max": [0.4, 0.4]}})")
+                .find("objects[0].mesh_size: is for \"simulation\": \"fem\" objects only"),
+            std::string::npos);
+}
+
+// A checkpoint taken mid-run and resumed in a new simulation ends in the same bytes as the run
+// that never stopped; frames carry the mesh.
+TEST(FemScene, ResumedRunEndsInTheSameCheckpoint) {
+  const Scene s = scene_of(R"({"dim": 3,
+      "grid": {"dx": 0.05, "domain_min": [0, 0, 0], "domain_max": [1, 1, 1], "walls": "slip"},
+      "time": {"frame_dt": 0.02, "frames": 6, "max_dt": 0.005},
+      "gravity": [0, -9.81, 0], "integrator": "implicit",
+      "materials": {"jelly": {"model": "neo_hookean", "E": 2e4, "nu": 0.3, "rho": 1000}},
+      "objects": [{"simulation": "fem", "mesh_size": 0.1, "material": "jelly",
+                   "angular_velocity": [0, 0, 3],
+                   "shape": {"type": "sphere", "center": [0.5, 0.35, 0.5], "radius": 0.15}}]})");
+  auto whole = make_simulation(s);
+  for (int f = 0; f < 6; ++f) whole->advance_frame();
+  auto first = make_simulation(s);
+  for (int f = 0; f < 3; ++f) first->advance_frame();
+  const std::string mid = first->encode_checkpoint();
+  auto second = make_simulation(s);
+  second->decode_checkpoint(mid);
+  for (int f = 0; f < 3; ++f) second->advance_frame();
+  EXPECT_EQ(whole->encode_checkpoint(), second->encode_checkpoint());
+  const std::vector<MeshPart> parts = whole->frame_meshes();
+  ASSERT_EQ(parts.size(), 1u);
+  EXPECT_EQ(parts[0].name, "fem");
+  EXPECT_GT(parts[0].elements.size(), 50u);
+  // The ball fell onto the slip floor (walls act kWallNodes cells inside the domain) and stays
+  // above it.
+  const std::vector<double> y = whole->frame_table().column("y");
+  EXPECT_GT(*std::min_element(y.begin(), y.end()), 3 * 0.05 - 0.01);
+  EXPECT_LT(*std::min_element(y.begin(), y.end()), 0.2);
+  std::string bad = mid;
+  bad[bad.size() / 2] ^= 1;
+  EXPECT_THROW(second->decode_checkpoint(bad), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace tear
