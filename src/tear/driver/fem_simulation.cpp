@@ -63,11 +63,13 @@ class FemSimulation final : public Simulation {
       };
       append_fem_body<Dim>(mesh, settings_.materials, setup, o.velocity, o.angular_velocity,
                            o.shape.world_center(), &state_);
+      start_nodes(o, key, state_.bodies.back());
     }
     const long bad = find_fem_fault(settings_, state_);
     if (bad >= 0)
       throw std::runtime_error(describe(size_t(bad), true) +
                                ": FEM bodies must lie inside grid.domain_min/max");
+    refuse_undefined_starts(scene);
   }
 
   int dim() const override { return Dim; }
@@ -84,9 +86,7 @@ class FemSimulation final : public Simulation {
       PhaseTimer timer(&step_seconds_);
       fem_step(settings_, &state_, dt, &solve_);
     }
-    dt_min_ = std::min(dt_min_, dt);
-    dt_max_ = std::max(dt_max_, dt);
-    ++steps_since_stats_;
+    step_figures_.add(dt);
     const long bad = find_fem_fault(settings_, state_);
     if (bad >= 0) {
       const Particles<Dim>& p = state_.nodes;
@@ -105,18 +105,7 @@ class FemSimulation final : public Simulation {
   }
 
   bool advance_frame(const std::atomic<bool>* stop) override {
-    const double target = double(frame_ + 1) * frame_dt_;
-    while (state_.time < target) {
-      if (stop && stop->load()) return false;
-      const double remaining = target - state_.time;
-      const double dt = estimate_dt();
-      if (dt >= remaining * (1 - 1e-9)) {
-        step(remaining);
-        state_.time = target;
-      } else {
-        step(dt);
-      }
-    }
+    if (!advance_to(*this, double(frame_ + 1) * frame_dt_, stop, &state_.time)) return false;
     ++frame_;
     return true;
   }
@@ -126,9 +115,7 @@ class FemSimulation final : public Simulation {
     FrameStats s;
     s.frame = frame_;
     s.time = state_.time;
-    s.steps = steps_since_stats_;
-    s.dt_min = steps_since_stats_ ? dt_min_ : 0;
-    s.dt_max = steps_since_stats_ ? dt_max_ : 0;
+    step_figures_.take(&s);
     s.particles = state_.num_nodes();
     s.mass = f.mass;
     s.momentum = f.momentum;
@@ -143,9 +130,6 @@ class FemSimulation final : public Simulation {
     s.newton_unconverged = solve_.unconverged;
     solve_ = FemSolveStats();
     s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    steps_since_stats_ = 0;
-    dt_min_ = std::numeric_limits<double>::infinity();
-    dt_max_ = 0;
     return s;
   }
 
@@ -205,20 +189,9 @@ class FemSimulation final : public Simulation {
   size_t checkpoint_bytes_max() const override { return encode(false).size(); }
 
   void decode_checkpoint(const std::string& bytes) override {
-    const size_t prefix = kFemCheckpointMagic.size() - 1;
-    if (bytes.size() < kFemCheckpointMagic.size() ||
-        bytes.compare(0, prefix, kFemCheckpointMagic, 0, prefix) != 0)
-      throw std::runtime_error("not a checkpoint of an FEM run (tear checkpoints of FEM runs "
-                               "start with " + kFemCheckpointMagic.substr(0, prefix) + ")");
-    if (bytes[prefix] != kFemCheckpointMagic[prefix])
-      throw std::runtime_error(std::string("checkpoint format version ") + bytes[prefix] +
-                               ", this tear reads version " + kFemCheckpointMagic[prefix]);
-    if (!checksum_matches(bytes))
-      throw std::runtime_error("damaged: its checksum does not match (truncated or altered)");
-    ByteReader r(bytes, kFemCheckpointMagic.size(), bytes.size() - sizeof(uint64_t));
-    if (r.get<int32_t>() != Dim) throw std::runtime_error("checkpoint of a different dimension");
-    if (r.get<int32_t>() != int32_t(sizeof(Real)))
-      throw std::runtime_error("checkpoint written with a different precision (TEAR_FLOAT)");
+    ByteReader r = open_checkpoint(bytes, kFemCheckpointMagic,
+                                   std::string(1, kFemCheckpointMagic.back()), Dim,
+                                   "a checkpoint of an MPM run (this scene is FEM)");
     const uint64_t nodes = r.get<uint64_t>(), elements = r.get<uint64_t>();
     if (nodes != state_.num_nodes() || elements != state_.elements.size())
       throw std::runtime_error("checkpoint has " + std::to_string(nodes) + " nodes and " +
@@ -228,8 +201,8 @@ class FemSimulation final : public Simulation {
     const double time = r.get<double>();
     const long steps = long(r.get<int64_t>());
     const int frame = r.get<int32_t>();
-    const long since = long(r.get<int64_t>());
-    const double dt_min = r.get<double>(), dt_max = r.get<double>();
+    StepFigures step_figures;
+    step_figures.read(&r);
     FemSolveStats is;
     is.solves = long(r.get<int64_t>());
     is.newton_iterations = long(r.get<int64_t>());
@@ -254,13 +227,51 @@ class FemSimulation final : public Simulation {
     state_.time = time;
     state_.steps = steps;
     frame_ = frame;
-    steps_since_stats_ = since;
-    dt_min_ = dt_min;
-    dt_max_ = dt_max;
+    step_figures_ = step_figures;
     solve_ = is;
   }
 
  private:
+  // neo_hookean and stvk_hencky take log J (log of the singular values): undefined where an
+  // element is inverted or flat. A start with such an element in such a material is refused (a
+  // run would end in NaN); qr_aniso and fixed_corotated are defined for every F (docs/fem.md).
+  void refuse_undefined_starts(const Scene& scene) const {
+    const FemElements<Dim>& el = state_.elements;
+    for (size_t b = 0; b < state_.bodies.size(); ++b)
+      for (size_t e = state_.bodies[b].element_begin; e < state_.bodies[b].element_end; ++e) {
+        const Model m = settings_.materials[el.material[e]].model;
+        if (m != Model::NeoHookean && m != Model::StvkHencky) continue;
+        if (fem_deformation(state_, state_.nodes.x, e).determinant() > 0) continue;
+        throw std::runtime_error(
+            scene.file + ": objects[" + std::to_string(b) + "]: element " +
+            std::to_string(e - state_.bodies[b].element_begin) +
+            " starts inverted or flat (initial_nodes \"" +
+            scene.resolved.at("objects").at(b).value("initial_nodes", "rest") + "\"), where " +
+            model_name(m) + " is undefined: use qr_aniso or fixed_corotated");
+      }
+  }
+
+  // AnisoMPM Fig. 19's starts: the body's nodes scattered at random over its bounding box, or
+  // all at the shape's centre (its rest shape stays the mesh's).
+  void start_nodes(const ObjectSpec& o, uint64_t key, const FemBody& body) {
+    if (o.node_start == ObjectSpec::NodeStart::Rest) return;
+    Particles<Dim>& p = state_.nodes;
+    Vec<Dim> lo = p.x[body.node_begin], hi = lo;
+    for (size_t i = body.node_begin; i < body.node_end; ++i)
+      lo = lo.cwiseMin(p.x[i]), hi = hi.cwiseMax(p.x[i]);
+    const Vec<Dim> centre = o.shape.world_center().head<Dim>().template cast<Real>();
+    for (size_t i = body.node_begin; i < body.node_end; ++i) {
+      if (o.node_start == ObjectSpec::NodeStart::Point) {
+        p.x[i] = centre;
+        continue;
+      }
+      for (int d = 0; d < Dim; ++d) {
+        const double u = double(mix(key ^ mix(i * Dim + size_t(d) + 0x51A7)) >> 11) * 0x1.0p-53;
+        p.x[i][d] = lo[d] + Real(u) * (hi[d] - lo[d]);
+      }
+    }
+  }
+
   ByteWriter encode(bool compact) const {
     ByteWriter w;
     w.put_bytes(kFemCheckpointMagic);
@@ -271,9 +282,7 @@ class FemSimulation final : public Simulation {
     w.put<double>(state_.time);
     w.put<int64_t>(state_.steps);
     w.put<int32_t>(frame_);
-    w.put<int64_t>(steps_since_stats_);
-    w.put<double>(dt_min_);
-    w.put<double>(dt_max_);
+    step_figures_.write(&w);
     w.put<int64_t>(solve_.solves);
     w.put<int64_t>(solve_.newton_iterations);
     w.put<int32_t>(solve_.newton_iterations_max);
@@ -318,8 +327,7 @@ class FemSimulation final : public Simulation {
   mutable std::vector<uint32_t> rows_;
   mutable PointTable table_;
   int frame_ = 0;
-  long steps_since_stats_ = 0;
-  double dt_min_ = std::numeric_limits<double>::infinity(), dt_max_ = 0;
+  StepFigures step_figures_;
 };
 
 }  // namespace

@@ -69,9 +69,7 @@ class MpmSimulation final : public Simulation {
     const double dt = settings_.integrator == Integrator::Implicit
                           ? implicit_step(settings_, &state_, planned, &record_, domain_)
                           : explicit_step(settings_, &state_, planned, &record_, domain_);
-    dt_min_ = std::min(dt_min_, dt);
-    dt_max_ = std::max(dt_max_, dt);
-    ++steps_since_stats_;
+    step_figures_.add(dt);
     if (state_.steps == inject_nan_step_)
       for (Particles<Dim>& g : state_.groups)
         for (size_t i = 0; i < g.size(); ++i)
@@ -90,17 +88,7 @@ class MpmSimulation final : public Simulation {
   // on it exactly (ARCHITECTURE.md "One explicit step"), unless it had to be redone shorter
   // (integrate_step): then more steps follow.
   bool advance_frame(const std::atomic<bool>* stop) override {
-    const double target = double(frame_ + 1) * frame_dt_;
-    while (state_.time < target) {
-      if (stop && stop->load()) return false;
-      const double remaining = target - state_.time;
-      const double dt = estimate_dt();
-      if (dt >= remaining * (1 - 1e-9)) {
-        if (step(remaining) == remaining) state_.time = target;  // not redone shorter
-      } else {
-        step(dt);
-      }
-    }
+    if (!advance_to(*this, double(frame_ + 1) * frame_dt_, stop, &state_.time)) return false;
     ++frame_;
     return true;
   }
@@ -110,9 +98,7 @@ class MpmSimulation final : public Simulation {
     FrameStats s;
     s.frame = frame_;
     s.time = state_.time;
-    s.steps = steps_since_stats_;
-    s.dt_min = steps_since_stats_ ? dt_min_ : 0;
-    s.dt_max = steps_since_stats_ ? dt_max_ : 0;
+    step_figures_.take(&s);
     s.steps_redone = record_.steps_redone;
     record_.steps_redone = 0;
     s.particles = f.particles;
@@ -149,9 +135,6 @@ class MpmSimulation final : public Simulation {
     s.inextensibility_unconverged = xs.unconverged;
     xs = InextensibilityStats();
     s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    steps_since_stats_ = 0;
-    dt_min_ = std::numeric_limits<double>::infinity();
-    dt_max_ = 0;
     return s;
   }
 
@@ -208,22 +191,10 @@ class MpmSimulation final : public Simulation {
   size_t checkpoint_bytes_max() const override { return encode(false).size(); }
 
   void decode_checkpoint(const std::string& bytes) override {
-    const size_t prefix = kCheckpointMagic.size() - 1;  // "TEARCKP", then the version
-    if (bytes.size() < kCheckpointMagic.size() ||
-        bytes.compare(0, prefix, kCheckpointMagic, 0, prefix) != 0)
-      throw std::runtime_error("not a tear checkpoint");
     // Version A differs only in writing every value of every field (put_fields).
-    const char version = bytes[prefix];
-    if (version != kCheckpointMagic[prefix] && version != 'A')
-      throw std::runtime_error(std::string("checkpoint format version ") + version +
-                               ", this tear reads versions A and " + kCheckpointMagic[prefix] +
-                               " (written by another version of tear)");
-    if (!checksum_matches(bytes))
-      throw std::runtime_error("damaged: its checksum does not match (truncated or altered)");
-    ByteReader r(bytes, kCheckpointMagic.size(), bytes.size() - sizeof(uint64_t));
-    if (r.get<int32_t>() != Dim) throw std::runtime_error("checkpoint of a different dimension");
-    if (r.get<int32_t>() != int32_t(sizeof(Real)))
-      throw std::runtime_error("checkpoint written with a different precision (TEAR_FLOAT)");
+    ByteReader r = open_checkpoint(bytes, kCheckpointMagic, std::string("A") + kCheckpointMagic.back(),
+                                   Dim, "a checkpoint of an FEM run (this scene is MPM)");
+    const char version = bytes[kCheckpointMagic.size() - 1];
     const uint32_t groups = r.get<uint32_t>();
     if (groups != state_.groups.size())
       throw std::runtime_error("checkpoint has " + std::to_string(groups) +
@@ -249,8 +220,8 @@ class MpmSimulation final : public Simulation {
     state.steps = long(r.get<int64_t>());
     state.implicit_multigrid = r.get<int32_t>() != 0;
     const int frame = r.get<int32_t>();
-    const long since = long(r.get<int64_t>());
-    const double dt_min = r.get<double>(), dt_max = r.get<double>();
+    StepFigures step_figures;
+    step_figures.read(&r);
     const int64_t redone = r.get<int64_t>();
     DamageSolveStats ds;
     ds.solves = long(r.get<int64_t>());
@@ -305,9 +276,7 @@ class MpmSimulation final : public Simulation {
     state_.implicit_multigrid = state.implicit_multigrid;
     speed2_ = speed2_or_fault(settings_, state_);
     frame_ = frame;
-    steps_since_stats_ = since;
-    dt_min_ = dt_min;
-    dt_max_ = dt_max;
+    step_figures_ = step_figures;
     record_.damage = ds;
     record_.implicit = is;
     record_.inextensibility = xs;
@@ -342,9 +311,7 @@ class MpmSimulation final : public Simulation {
     w.put<int64_t>(state_.steps);
     w.put<int32_t>(state_.implicit_multigrid ? 1 : 0);
     w.put<int32_t>(frame_);
-    w.put<int64_t>(steps_since_stats_);
-    w.put<double>(dt_min_);
-    w.put<double>(dt_max_);
+    step_figures_.write(&w);
     w.put<int64_t>(record_.steps_redone);
     const DamageSolveStats& ds = record_.damage;
     w.put<int64_t>(ds.solves);
@@ -421,10 +388,9 @@ class MpmSimulation final : public Simulation {
   mutable std::vector<uint32_t> rows_;  // frame_rows()'s: particle indices in id order
   mutable PointTable table_;            // frame_table()'s, reused
   int frame_ = 0;
-  long steps_since_stats_ = 0;
   long inject_nan_step_ = -1;  // TEAR_TEST_INJECT_NAN
   uint32_t inject_nan_id_ = 0;
-  double dt_min_ = std::numeric_limits<double>::infinity(), dt_max_ = 0;
+  StepFigures step_figures_;
 };
 
 }  // namespace

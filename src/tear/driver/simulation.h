@@ -13,7 +13,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <atomic>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -120,6 +122,37 @@ class Simulation {
   // (format, dimension, particle count, fields).
   virtual void decode_checkpoint(const std::string& bytes) = 0;
 };
+
+// What every Simulation implementation shares (driver/simulation.cpp).
+//
+// The steps since the last statistics and their shortest and longest dt: FrameStats' step
+// figures, and part of a checkpoint.
+struct StepFigures {
+  long steps = 0;
+  double dt_min = std::numeric_limits<double>::infinity(), dt_max = 0;
+  void add(double dt) {
+    ++steps;
+    dt_min = std::min(dt_min, dt);
+    dt_max = std::max(dt_max, dt);
+  }
+  // Into `s` (steps, dt_min, dt_max; 0 without steps), then reset.
+  void take(FrameStats* s);
+  void write(ByteWriter* w) const;
+  void read(ByteReader* r);
+};
+
+// Steps of sim.estimate_dt() until *time reaches `target`: the step that would cross it is
+// shortened to land on it exactly (*time is set to target when that step was not cut shorter
+// still). Returns false, after the step in progress, once `*stop` is set.
+bool advance_to(Simulation& sim, double target, const std::atomic<bool>* stop, double* time);
+
+// The checkpoint `bytes` opened after its magic (of `magic.size()` characters, the last its
+// format version; `versions` the version characters this build reads), its checksum checked and
+// its dimension and precision compared with this build's: a reader of the header that follows.
+// Throws std::runtime_error: "not a tear checkpoint" (`not_ours` where the magic differs),
+// another version, a damaged checksum, another dimension or precision.
+ByteReader open_checkpoint(const std::string& bytes, const std::string& magic,
+                           const std::string& versions, int dim, const std::string& not_ours);
 
 // The simulation a scene describes: FEM where its objects are "simulation": "fem" bodies
 // (driver/fem_simulation.cpp, their meshes made), else MPM (driver/mpm_simulation.cpp, its

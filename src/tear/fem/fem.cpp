@@ -18,7 +18,7 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 template <int Dim>
-using ElementVector = Eigen::Matrix<Real, Dim*(Dim + 1), 1>;
+using ElementHessian = Eigen::Matrix<double, Dim*(Dim + 1), Dim*(Dim + 1)>;
 
 // The corner gradients of the element's linear shape functions at rest: F = sum_a x_a g_a^T.
 template <int Dim>
@@ -87,6 +87,10 @@ void explicit_fem_step(const MpmSettings& s, FemState<Dim>* st, double dt) {
 
 }  // namespace
 
+template <int Dim>
+ElementHessian<Dim> element_hessian(const MpmSettings& s, const FemState<Dim>& st,
+                                    const std::vector<Vec<Dim>>& x, size_t e);
+
 // The implicit solve's matrix M + dt^2 K over the nodes' Dim unknowns each, with its sparsity
 // fixed by the elements (both triangles stored), the place of every element block in it, and
 // its LDL^T factor (Eigen's SimplicialLDLT: its ordering analysed once).
@@ -130,6 +134,12 @@ class FemAssembly {
   std::vector<int> offset, diagonal;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> factor;
   bool analysed = false;
+  // The factor's dt (-1: none yet), the CG iterations of the last solve preconditioned by it, and
+  // the factorisations so far.
+  static constexpr int kRefactorAfter = 8;
+  double factored_dt = -1;
+  int solve_iterations = 0;
+  long factorizations = 0;
 };
 
 namespace {
@@ -159,6 +169,9 @@ class FemPotential {
     x_.resize(n_);
     grad_.resize(n_);
     if (!st.assembly) st.assembly = std::make_shared<FemAssembly<Dim>>(st);
+    // A step starts from a fresh factor: the step's result depends on this state alone, so that a
+    // run resumed from a checkpoint takes the same iterations.
+    st.assembly->factored_dt = -1;
     direct_ = s.implicit_preconditioner != ImplicitPreconditioner::Jacobi;
   }
 
@@ -214,15 +227,15 @@ class FemPotential {
     std::fill(values, values + A.matrix.nonZeros(), 0.0);
     const FemElements<Dim>& el = st_.elements;
     constexpr int kC = Dim + 1;
-    std::vector<Eigen::MatrixXd> h(el.size());
-    parallel_for(el.size(), [&](size_t e) { h[e] = fem_element_hessian(s_, st_, x_, e); });
+    h_.resize(el.size());
+    parallel_for(el.size(), [&](size_t e) { h_[e] = element_hessian(s_, st_, x_, e); });
     const double dt2 = double(dt_) * double(dt_);
     for (size_t e = 0; e < el.size(); ++e) {  // in element order: the same sums every time
       const auto& c = el.corners[e];
       for (int a = 0; a < kC; ++a)
         for (int b = 0; b < kC; ++b) {
           const Mat<Dim> block = free_[c[size_t(a)]] *
-                                 h[e].block<Dim, Dim>(a * Dim, b * Dim).template cast<Real>() *
+                                 h_[e].template block<Dim, Dim>(a * Dim, b * Dim).template cast<Real>() *
                                  free_[c[size_t(b)]];
           for (int j = 0; j < Dim; ++j) {
             double* col = values + A.offset[((e * kC + size_t(a)) * kC + size_t(b)) * Dim + size_t(j)];
@@ -242,12 +255,20 @@ class FemPotential {
                                                   Eigen::Index(i * Dim) + b) += double(fixed(a, b));
       }
     }
+    // The factor of an earlier Hessian of this step stays the preconditioner while CG converges
+    // with it in a few iterations: refactored at the step's first solve and after a solve that
+    // took more than kRefactorAfter iterations.
     if (direct_) {
       if (!A.analysed) {
         A.factor.analyzePattern(A.matrix);
         A.analysed = true;
       }
-      A.factor.factorize(A.matrix);
+      if (A.factored_dt != double(dt_) || A.solve_iterations > FemAssembly<Dim>::kRefactorAfter) {
+        A.factor.factorize(A.matrix);
+        A.factored_dt = double(dt_);
+        ++A.factorizations;
+      }
+      A.solve_iterations = -1;  // precondition() counts this solve's iterations
     }
   }
 
@@ -268,8 +289,9 @@ class FemPotential {
   }
 
   void precondition(const std::vector<Real>& r, std::vector<Real>& z) {
-    const FemAssembly<Dim>& A = *st_.assembly;
+    FemAssembly<Dim>& A = *st_.assembly;
     if (direct_) {
+      ++A.solve_iterations;
       Eigen::VectorXd rr(Eigen::Index(r.size()));
       for (size_t k = 0; k < r.size(); ++k) rr[Eigen::Index(k)] = double(r[k]);
       const Eigen::VectorXd zz = A.factor.solve(rr);
@@ -293,6 +315,7 @@ class FemPotential {
   bool direct_ = true;
   std::vector<Vec<Dim>> v_star_, x_, grad_;
   std::vector<Mat<Dim>> free_;
+  std::vector<ElementHessian<Dim>, Eigen::aligned_allocator<ElementHessian<Dim>>> h_;
 };
 
 template <int Dim>
@@ -425,18 +448,26 @@ void fem_elastic_gradient(const MpmSettings& s, const FemState<Dim>& st,
 }
 
 template <int Dim>
-Eigen::MatrixXd fem_element_hessian(const MpmSettings& s, const FemState<Dim>& st,
+ElementHessian<Dim> element_hessian(const MpmSettings& s, const FemState<Dim>& st,
                                     const std::vector<Vec<Dim>>& x, size_t e) {
   const FemElements<Dim>& el = st.elements;
   const StressDerivative<Dim> A = projected_stress_derivative<Dim>(
       material_of(s, st, e), fem_deformation(st, x, e), el.fiber[e]);
   const auto g = shape_gradients<Dim>(el.rest_inverse[e]);
-  // vec(dF) = G dx: column block a is g_a (x) I.
+  // vec(dF) = G dx: column block a is g_a (x) I; H = V G^T A G, with (A G) formed a block of Dim
+  // columns at a time.
   Eigen::Matrix<double, Dim * Dim, Dim*(Dim + 1)> G = decltype(G)::Zero();
   for (int a = 0; a <= Dim; ++a)
     for (int j = 0; j < Dim; ++j)
       for (int i = 0; i < Dim; ++i) G(i + Dim * j, a * Dim + i) = double(g[size_t(a)][j]);
-  return double(el.vol0[e]) * (G.transpose() * A.template cast<double>() * G);
+  const Eigen::Matrix<double, Dim * Dim, Dim*(Dim + 1)> AG = A.template cast<double>() * G;
+  return double(el.vol0[e]) * (G.transpose() * AG);
+}
+
+template <int Dim>
+Eigen::MatrixXd fem_element_hessian(const MpmSettings& s, const FemState<Dim>& st,
+                                    const std::vector<Vec<Dim>>& x, size_t e) {
+  return element_hessian(s, st, x, e);
 }
 
 template <int Dim>

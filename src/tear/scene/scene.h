@@ -104,6 +104,10 @@ struct ObjectSpec {
   // about mesh_size (default grid.dx), simulated by fem/ (docs/fem.md), not sampled.
   bool fem = false;
   double mesh_size = 0;
+  // "initial_nodes": where an FEM body's nodes start (its rest shape is the mesh's): at rest, each
+  // at a random point of the mesh's bounding box, or all at the shape's centre (AnisoMPM Fig. 19).
+  enum class NodeStart { Rest, Random, Point };
+  NodeStart node_start = NodeStart::Rest;
 };
 
 // Preview rendering defaults ("render" section) for `tear render` and `tear run --render`;

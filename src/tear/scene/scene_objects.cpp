@@ -224,8 +224,8 @@ json parse_object(const Reader& r, const json& o, const std::string& path, const
   spec->kind = ObjectKind(r.choice(o, path, "kind", {"volume", "surface", "curves"}, 0));
   if (spec->kind != ObjectKind::Volume) return parse_codim_object(r, o, path, scene, index, spec);
   r.object(o, path,
-           {"kind", "simulation", "mesh_size", "shape", "material", "ppc", "sampling", "velocity",
-            "angular_velocity", "fibers", "regions"});
+           {"kind", "simulation", "mesh_size", "initial_nodes", "shape", "material", "ppc",
+            "sampling", "velocity", "angular_velocity", "fibers", "regions"});
   json out;
   out["kind"] = "volume";
   spec->fem = r.choice(o, path, "simulation", {"mpm", "fem"}, 0) == 1;
@@ -235,8 +235,14 @@ json parse_object(const Reader& r, const json& o, const std::string& path, const
     r.check(spec->mesh_size > 0 && std::isfinite(spec->mesh_size), key_path(path, "mesh_size"),
             "must be a positive length, got " + num_str(spec->mesh_size));
     out["mesh_size"] = spec->mesh_size;
-  } else if (r.find(o, "mesh_size")) {
-    r.fail(key_path(path, "mesh_size"), "is for \"simulation\": \"fem\" objects only");
+    spec->node_start =
+        ObjectSpec::NodeStart(r.choice(o, path, "initial_nodes", {"rest", "random", "point"}, 0));
+    const char* const starts[] = {"rest", "random", "point"};
+    out["initial_nodes"] = starts[int(spec->node_start)];
+  } else {
+    for (const char* key : {"mesh_size", "initial_nodes"})
+      if (r.find(o, key))
+        r.fail(key_path(path, key), "is for \"simulation\": \"fem\" objects only");
   }
   const json* sj = r.find(o, "shape");
   if (!sj) r.fail(key_path(path, "shape"), "required");
