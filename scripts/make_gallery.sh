@@ -2,10 +2,11 @@
 # Runs examples and renders their last frame into the stills of docs/gallery.md:
 # docs/gallery/NAME.png for examples/NAME.json, and for the paper's demos (examples/paper/)
 # docs/gallery/paper/NAME.png (world space) and NAME_rest.png (material space), and for the
-# cloth, yarn and hair scenes (examples/codimensional/) docs/gallery/codimensional/NAME.png.
+# cloth, yarn and hair scenes (examples/codimensional/) docs/gallery/codimensional/NAME.png,
+# and likewise for the FEM scenes (examples/fem/) docs/gallery/fem/NAME.png.
 # Usage: bash scripts/make_gallery.sh [NAME | paper/NAME | paper | codimensional/NAME |
-#   codimensional ...] (default: every example in examples/; "paper", "codimensional": every
-#   scene in that folder)
+#   codimensional | fem/NAME | fem ...] (default: every example in examples/; "paper",
+#   "codimensional", "fem": every scene in that folder)
 #   THREADS=2 (tear run/render threads), OUT=out/gallery (run folders), SIZE=480x270,
 #   TEAR=./build/tear (the executable), NO_RUN=1 (render runs already in OUT, run only the
 #   missing ones)
@@ -17,7 +18,7 @@ size=${SIZE:-480x270}
 tear=${TEAR:-./build/tear}
 names=()
 for a in "$@"; do
-  if [[ $a == paper || $a == codimensional ]]; then
+  if [[ $a == paper || $a == codimensional || $a == fem ]]; then
     for f in examples/$a/*.json; do names+=("$a/$(basename "$f" .json)"); done
   else
     names+=("$a")
@@ -35,7 +36,7 @@ still() {  # still RUN_DIR FRAME COLOR OUT.png [render options]
   ffmpeg -loglevel error -y -i "$run/render/$frame.png" \
     -vf "split[a][b];[a]palettegen=max_colors=256[p];[b][p]paletteuse=dither=none" "$png"
 }
-mkdir -p docs/gallery/paper docs/gallery/codimensional
+mkdir -p docs/gallery/paper docs/gallery/codimensional docs/gallery/fem
 for n in "${names[@]}"; do
   scene=examples/$n.json
   [[ -f $scene ]] || { echo "make_gallery: $scene: no such example" >&2; exit 1; }

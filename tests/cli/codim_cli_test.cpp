@@ -62,7 +62,7 @@ TEST_F(CodimCli, CheckReportsTheMeshesAndRunWritesThemEveryFrame) {
     EXPECT_EQ(yarn.corners, 2);
     EXPECT_EQ(yarn.vertices.count, 17u);
     EXPECT_EQ(yarn.elements.size(), 16u);
-    EXPECT_EQ(yarn.elements[3], (std::array<uint32_t, 3>{3, 4, 0}));
+    EXPECT_EQ(yarn.elements[3], (std::array<uint32_t, 4>{3, 4, 0, 0}));
   }
   // The cloth fell (gravity) and met the floor or the rope: it moved.
   const MeshPart first = decode_mesh_part_ply(read_file(path("run/frames/00000.surfaces.ply")));

@@ -1,7 +1,7 @@
 // docs/gallery.md keeps up with examples/: every example has a still (a PNG that decodes, of
 // the size scripts/make_gallery.sh renders) and a section on the page; every paper demo
 // (examples/paper/) has two, in world and in rest space; every cloth, yarn and hair scene
-// (examples/codimensional/) one.
+// (examples/codimensional/) and FEM scene (examples/fem/) one.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -28,9 +28,9 @@ void expect_still(const fs::path& png, const std::string& name) {
 TEST(Gallery, EveryExampleHasAStillAndASection) {
   const fs::path root(TEAR_SOURCE_DIR);
   // NAME for examples/NAME.json, paper/NAME for examples/paper/NAME.json, likewise
-  // codimensional/NAME.
+  // codimensional/NAME and fem/NAME.
   std::vector<std::string> names, stills;
-  for (const char* folder : {"", "paper", "codimensional"})
+  for (const char* folder : {"", "paper", "codimensional", "fem"})
     for (const auto& e : fs::directory_iterator(root / "examples" / folder))
       if (e.path().extension() == ".json") {
         const std::string name = (fs::path(folder) / e.path().stem()).generic_string();

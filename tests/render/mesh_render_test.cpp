@@ -34,7 +34,7 @@ MeshPart part_of(const std::vector<Vector3d>& x, const std::vector<std::array<ui
     t.add(name, ColumnType::Float32, part.vertices.column(name));
   t.add("material", ColumnType::UInt8, std::vector<double>(x.size(), double(material)));
   part.vertices = t;
-  part.elements = el;
+  for (const std::array<uint32_t, 3>& e : el) part.elements.push_back({e[0], e[1], e[2], 0});
   part.element_columns.count = el.size();
   if (corners == 2 && radius > 0)
     part.element_columns.add("radius", ColumnType::Float32, std::vector<double>(el.size(), radius));

@@ -59,6 +59,9 @@ class FemSimulation final : public Simulation {
             break;
           }
         made.fiber = fiber_frame_at<Dim>(*fibers, c, mix(key ^ mix(e)));
+        const MaterialSpec& m = scene.materials[made.material];
+        made.mass_damping = Real(m.rayleigh_alpha);
+        made.stiffness_damping = Real(m.rayleigh_beta);
         return made;
       };
       append_fem_body<Dim>(mesh, settings_.materials, setup, o.velocity, o.angular_velocity,
@@ -144,8 +147,30 @@ class FemSimulation final : public Simulation {
     return table_;
   }
 
-  // One part, "fem": the bodies' boundary triangles in 3D, their element triangles in 2D (the
-  // filled body), over all nodes (vertex k is node k).
+  // The element figures as columns: id, material, energy (density), von_mises, J, fx fy fz.
+  void add_element_columns(PointTable* t) const {
+    const FemElements<Dim>& el = state_.elements;
+    const FemElementFigures f = fem_element_figures(settings_, state_);
+    std::vector<double> id(el.size()), material(el.size()), fiber[3];
+    for (auto& c : fiber) c.resize(el.size());
+    for (size_t e = 0; e < el.size(); ++e) {
+      id[e] = double(e), material[e] = double(el.material[e]);
+      for (int d = 0; d < 3; ++d) fiber[d][e] = f.fiber[e][d];
+    }
+    t->count = el.size();
+    t->add("id", ColumnType::Int32, id);
+    t->add("material", ColumnType::UInt8, material);
+    t->add("energy", ColumnType::Float32, f.energy);
+    t->add("von_mises", ColumnType::Float32, f.von_mises);
+    t->add("J", ColumnType::Float32, f.J);
+    t->add("fx", ColumnType::Float32, fiber[0]);
+    t->add("fy", ColumnType::Float32, fiber[1]);
+    t->add("fz", ColumnType::Float32, fiber[2]);
+  }
+
+  // "fem": the bodies' boundary triangles in 3D, their element triangles in 2D (the filled body,
+  // with the element columns), over all nodes (vertex k is node k); 3D also "volume": the
+  // tetrahedra with the element columns (VTU).
   std::vector<MeshPart> frame_meshes() const override {
     MeshPart part;
     part.name = "fem";
@@ -159,22 +184,32 @@ class FemSimulation final : public Simulation {
       for (size_t b = 0; b < state_.bodies.size(); ++b)
         for (size_t f = state_.bodies[b].face_begin; f < state_.bodies[b].face_end; ++f) {
           const std::array<int, 3>& t = state_.faces[f];
-          part.elements.push_back({uint32_t(t[0]), uint32_t(t[1]), uint32_t(t[2])});
+          part.elements.push_back({uint32_t(t[0]), uint32_t(t[1]), uint32_t(t[2]), 0});
           id.push_back(double(f));
           material.push_back(double(state_.nodes.material[size_t(t[0])]));
         }
     } else {
       const FemElements<Dim>& el = state_.elements;
-      for (size_t e = 0; e < el.size(); ++e) {
-        part.elements.push_back({el.corners[e][0], el.corners[e][1], el.corners[e][2]});
-        id.push_back(double(e));
-        material.push_back(double(el.material[e]));
-      }
+      for (size_t e = 0; e < el.size(); ++e)
+        part.elements.push_back({el.corners[e][0], el.corners[e][1], el.corners[e][2], 0});
+      add_element_columns(&part.element_columns);
+      return {part};
     }
     part.element_columns.count = part.elements.size();
     part.element_columns.add("id", ColumnType::Int32, id);
     part.element_columns.add("material", ColumnType::UInt8, material);
-    return {part};
+    MeshPart volume;
+    volume.name = "volume";
+    volume.corners = 4;
+    volume.vertices = part.vertices;
+    const FemElements<Dim>& el = state_.elements;
+    for (size_t e = 0; e < el.size(); ++e) {
+      std::array<uint32_t, 4> c{};
+      for (int a = 0; a <= Dim; ++a) c[size_t(a)] = el.corners[e][size_t(a)];
+      volume.elements.push_back(c);
+    }
+    add_element_columns(&volume.element_columns);
+    return {part, volume};
   }
 
   std::vector<MeshFigures> body_meshes() const override { return figures_; }
@@ -252,24 +287,25 @@ class FemSimulation final : public Simulation {
   }
 
   // AnisoMPM Fig. 19's starts: the body's nodes scattered at random over its bounding box, or
-  // all at the shape's centre (its rest shape stays the mesh's).
+  // all within a thousandth of mesh_size of the shape's centre (its rest shape stays the
+  // mesh's). Not exactly at the centre: F = 0 in every element is a stationary point of every
+  // model (docs/fem.md, "Inverted starts"), which no integrator leaves.
   void start_nodes(const ObjectSpec& o, uint64_t key, const FemBody& body) {
     if (o.node_start == ObjectSpec::NodeStart::Rest) return;
     Particles<Dim>& p = state_.nodes;
     Vec<Dim> lo = p.x[body.node_begin], hi = lo;
     for (size_t i = body.node_begin; i < body.node_end; ++i)
       lo = lo.cwiseMin(p.x[i]), hi = hi.cwiseMax(p.x[i]);
-    const Vec<Dim> centre = o.shape.world_center().head<Dim>().template cast<Real>();
-    for (size_t i = body.node_begin; i < body.node_end; ++i) {
-      if (o.node_start == ObjectSpec::NodeStart::Point) {
-        p.x[i] = centre;
-        continue;
-      }
+    if (o.node_start == ObjectSpec::NodeStart::Point) {
+      const Vec<Dim> centre = o.shape.world_center().head<Dim>().template cast<Real>();
+      const Vec<Dim> half = Vec<Dim>::Constant(Real(0.5e-3 * o.mesh_size));
+      lo = centre - half, hi = centre + half;
+    }
+    for (size_t i = body.node_begin; i < body.node_end; ++i)
       for (int d = 0; d < Dim; ++d) {
         const double u = double(mix(key ^ mix(i * Dim + size_t(d) + 0x51A7)) >> 11) * 0x1.0p-53;
         p.x[i][d] = lo[d] + Real(u) * (hi[d] - lo[d]);
       }
-    }
   }
 
   ByteWriter encode(bool compact) const {

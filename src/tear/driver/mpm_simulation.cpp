@@ -176,7 +176,9 @@ class MpmSimulation final : public Simulation {
         }
         part.element_columns.add("radius", ColumnType::Float32, radius);
       }
-      part.elements = el.element_vertices;
+      part.elements.reserve(el.size());
+      for (const std::array<uint32_t, 3>& c : el.element_vertices)
+        part.elements.push_back({c[0], c[1], c[2], 0});
       parts.push_back(std::move(part));
     }
     return parts;

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <unordered_set>
 
 #include "tear/grid/collider.h"
 #include "tear/io/atomic_file.h"
@@ -322,13 +323,38 @@ struct Sequence {
                                "\" in the scene's output.fields and run it again)");
   }
 
+  // The particles drawn as spheres: all but the FEM bodies' nodes (the vertices of the "fem"
+  // mesh part, by id), which are drawn as their bodies' surfaces.
+  const PointTable& spheres(const PointTable& table, const std::vector<MeshPart>& meshes) {
+    const MeshPart* fem = nullptr;
+    for (const MeshPart& part : meshes)
+      if (part.name == "fem") fem = &part;
+    if (!fem || !table.has("id") || !fem->vertices.has("id")) return table;
+    const std::vector<double>& node_ids = fem->vertices.column("id");
+    const std::unordered_set<double> nodes(node_ids.begin(), node_ids.end());
+    const std::vector<double>& ids = table.column("id");
+    std::vector<size_t> keep;
+    for (size_t r = 0; r < table.count; ++r)
+      if (!nodes.count(ids[r])) keep.push_back(r);
+    spheres_ = PointTable();
+    spheres_.count = keep.size();
+    spheres_.names = table.names;
+    spheres_.types = table.types;
+    for (const std::vector<double>& column : table.columns) {
+      std::vector<double>& out = spheres_.columns.emplace_back();
+      for (size_t r : keep) out.push_back(column[r]);
+    }
+    return spheres_;
+  }
+  PointTable spheres_;
+
   void draw(int frame, const PointTable& table, const std::vector<MeshPart>& meshes,
             const std::string& source) {
     check(table, source);
     if (!stage) fit(frame, table, meshes);
     if (auto_range) settings.range_max = top > 0 ? top : 1;
     const Image image = renderer.render(
-        shown(frame, table), look, *stage, settings,
+        spheres(shown(frame, table), meshes), look, *stage, settings,
         caption_of(frame, frame_dt) + (rest_space ? "   REST SPACE" : ""), colliders_at(frame),
         shown(frame, meshes));
     write_file_atomic(png_path(dir, frame), encode_png(image));

@@ -98,12 +98,12 @@ class FrameWriter {
       encode_points(rows, f, &buffer_, &table_);
       write_file_atomic(frame_path(dir_, frame, f), buffer_);
     }
-    // The codimensional meshes (cloth, yarn, hair): a file per part and mesh format; with vtu,
-    // DIR/PART.pvd lists them at their times.
+    // The meshes (cloth, yarn, hair, FEM surfaces and volumes): a file per part and mesh format;
+    // with vtu, DIR/PART.pvd lists them at their times.
     const std::vector<MeshPart> parts = sim.frame_meshes();
     vtu_times_[frame] = sim.time();
     for (const MeshPart& part : parts)
-      for (const std::string& f : mesh_formats_) {
+      for (const std::string& f : mesh_part_formats_of(part, mesh_formats_)) {
         write_file_atomic(mesh_part_path(dir_, frame, part.name, f), encode_mesh_part(part, f));
         if (f == "vtu") write_mesh_part_pvd(dir_, part.name, vtu_times_);
       }
@@ -608,7 +608,8 @@ int check_scene(const std::string& scene_path, const std::vector<std::string>& o
     for (const std::string& f : s.formats)
       encode_points(sim->frame_rows(), f, &encoded), frame_bytes += encoded.size();
     for (const MeshPart& part : sim->frame_meshes())
-      for (const std::string& f : s.mesh_formats) frame_bytes += encode_mesh_part(part, f).size();
+      for (const std::string& f : mesh_part_formats_of(part, s.mesh_formats))
+        frame_bytes += encode_mesh_part(part, f).size();
     const size_t checkpoint = sim->checkpoint().size();
     const size_t checkpoint_max = sim->checkpoint_bytes_max();
     // Frame 0, every output_every-th frame, and the last frame.

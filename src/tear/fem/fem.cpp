@@ -73,11 +73,60 @@ void apply_node_contacts(const MpmSettings& s, FemState<Dim>* st) {
   });
 }
 
+}  // namespace
+
+template <int Dim>
+ElementHessian<Dim> element_hessian(const MpmSettings& s, const FemState<Dim>& st,
+                                    const std::vector<Vec<Dim>>& x, size_t e);
+
+namespace {
+
+// Sum over the (element, corner) pairs of node i in element order: the gather that makes node
+// forces the same bits on any thread count.
+template <int Dim>
+void gather_corners(const FemState<Dim>& st, const std::vector<Vec<Dim>>& corner,
+                    std::vector<Vec<Dim>>* out) {
+  out->resize(st.num_nodes());
+  parallel_for(st.num_nodes(), [&](size_t i) {
+    Vec<Dim> sum = Vec<Dim>::Zero();
+    for (uint32_t k = st.incident_begin[i]; k < st.incident_begin[i + 1]; ++k)
+      sum += corner[st.incident[k]];
+    (*out)[i] = sum;
+  });
+}
+
+// The Rayleigh damping force's negative, (alpha M + beta K(x)) v per node, K from the elements'
+// projected Hessians at x (the explicit integrator's; the implicit one assembles the same
+// matrix, FemPotential::assemble_damping).
+template <int Dim>
+void rayleigh_damping(const MpmSettings& s, const FemState<Dim>& st, const std::vector<Vec<Dim>>& x,
+                      const std::vector<Vec<Dim>>& v, std::vector<Vec<Dim>>* out) {
+  const FemElements<Dim>& el = st.elements;
+  std::vector<Vec<Dim>> corner(el.size() * (Dim + 1), Vec<Dim>::Zero());
+  parallel_for(el.size(), [&](size_t e) {
+    if (el.stiffness_damping[e] == 0) return;
+    Eigen::Matrix<double, Dim*(Dim + 1), 1> ve;
+    for (int a = 0; a <= Dim; ++a)
+      ve.template segment<Dim>(a * Dim) = v[el.corners[e][size_t(a)]].template cast<double>();
+    const Eigen::Matrix<double, Dim*(Dim + 1), 1> f =
+        double(el.stiffness_damping[e]) * (element_hessian(s, st, x, e) * ve);
+    for (int a = 0; a <= Dim; ++a)
+      corner[e * (Dim + 1) + size_t(a)] = f.template segment<Dim>(a * Dim).template cast<Real>();
+  });
+  gather_corners(st, corner, out);
+  parallel_for(st.num_nodes(), [&](size_t i) { (*out)[i] += st.mass_damping[i] * v[i]; });
+}
+
 template <int Dim>
 void explicit_fem_step(const MpmSettings& s, FemState<Dim>* st, double dt) {
   Particles<Dim>& p = st->nodes;
   std::vector<Vec<Dim>> grad;
   fem_elastic_gradient(s, *st, p.x, &grad);
+  if (st->damped) {
+    std::vector<Vec<Dim>> damping;
+    rayleigh_damping(s, *st, p.x, p.v, &damping);
+    parallel_for(p.size(), [&](size_t i) { grad[i] += damping[i]; });
+  }
   const Vec<Dim> g = s.gravity.head<Dim>().template cast<Real>();
   const Real h = Real(dt);
   parallel_for(p.size(), [&](size_t i) { p.v[i] += h * (g - grad[i] / p.mass[i]); });
@@ -86,10 +135,6 @@ void explicit_fem_step(const MpmSettings& s, FemState<Dim>* st, double dt) {
 }
 
 }  // namespace
-
-template <int Dim>
-ElementHessian<Dim> element_hessian(const MpmSettings& s, const FemState<Dim>& st,
-                                    const std::vector<Vec<Dim>>& x, size_t e);
 
 // The implicit solve's matrix M + dt^2 K over the nodes' Dim unknowns each, with its sparsity
 // fixed by the elements (both triangles stored), the place of every element block in it, and
@@ -126,12 +171,21 @@ class FemAssembly {
             offset[((e * kCorners + size_t(a)) * kCorners + size_t(b)) * Dim + size_t(j)] =
                 find(Eigen::Index(c[size_t(a)]) * Dim, Eigen::Index(c[size_t(b)]) * Dim + j);
     });
-    diagonal.resize(size_t(n));
-    for (Eigen::Index i = 0; i < n; ++i) diagonal[size_t(i)] = find(i, i);
+    node_block.resize(size_t(n));
+    for (Eigen::Index i = 0; i < n; ++i) node_block[size_t(i)] = find(i - i % Dim, i);
   }
 
+  // Where entry (k, k) is: node k / Dim's diagonal block, column k.
+  int diagonal(size_t k) const { return node_block[k] + int(k % Dim); }
+
   Eigen::SparseMatrix<double> matrix;
-  std::vector<int> offset, diagonal;
+  // offset: each element block's columns; node_block[i Dim + j]: column j of node i's diagonal
+  // block (its Dim rows are consecutive there).
+  std::vector<int> offset, node_block;
+  // The Rayleigh damping matrix alpha M + beta K(x^n) of the step (damped bodies only), projected
+  // to the nodes' free directions, on the matrix's pattern: its values.
+  std::vector<double> damping;
+  Eigen::VectorXd in, out;  // the solves' buffers
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> factor;
   bool analysed = false;
   // The factor's dt (-1: none yet), the CG iterations of the last solve preconditioned by it, and
@@ -173,6 +227,7 @@ class FemPotential {
     // run resumed from a checkpoint takes the same iterations.
     st.assembly->factored_dt = -1;
     direct_ = s.implicit_preconditioner != ImplicitPreconditioner::Jacobi;
+    if (st.damped) assemble_damping();
   }
 
   std::vector<Real> initial() const {
@@ -195,7 +250,12 @@ class FemPotential {
       return 0.5 * double(p.mass[i]) *
              double((Eigen::Map<const Vec<Dim>>(&v[i * Dim]) - v_star_[i]).squaredNorm());
     });
-    return kinetic + fem_elastic_energy(s_, st_, x_);
+    double damping = 0;
+    if (st_.damped) {
+      const Eigen::Map<const Eigen::VectorXd> vv(v.data(), Eigen::Index(v.size()));
+      damping = 0.5 * double(dt_) * vv.dot(damping_matrix() * vv);
+    }
+    return kinetic + fem_elastic_energy(s_, st_, x_) + damping;
   }
 
   void gradient(const std::vector<Real>& v, std::vector<Real>& g) {
@@ -208,6 +268,11 @@ class FemPotential {
       Eigen::Map<Vec<Dim>> out(&g[i * Dim]);
       out = free_[i] * gi;
     });
+    if (st_.damped) {  // dt D v, D projected already
+      FemAssembly<Dim>& A = *st_.assembly;
+      A.out = damping_matrix() * Eigen::Map<const Eigen::VectorXd>(v.data(), Eigen::Index(v.size()));
+      for (size_t k = 0; k < g.size(); ++k) g[k] += dt_ * A.out[Eigen::Index(k)];
+    }
   }
 
   // The largest velocity change a node still needs, as a distance moved in a step over the
@@ -225,36 +290,16 @@ class FemPotential {
     FemAssembly<Dim>& A = *st_.assembly;
     double* values = A.matrix.valuePtr();
     std::fill(values, values + A.matrix.nonZeros(), 0.0);
-    const FemElements<Dim>& el = st_.elements;
-    constexpr int kC = Dim + 1;
-    h_.resize(el.size());
-    parallel_for(el.size(), [&](size_t e) { h_[e] = element_hessian(s_, st_, x_, e); });
-    const double dt2 = double(dt_) * double(dt_);
-    for (size_t e = 0; e < el.size(); ++e) {  // in element order: the same sums every time
-      const auto& c = el.corners[e];
-      for (int a = 0; a < kC; ++a)
-        for (int b = 0; b < kC; ++b) {
-          const Mat<Dim> block = free_[c[size_t(a)]] *
-                                 h_[e].template block<Dim, Dim>(a * Dim, b * Dim).template cast<Real>() *
-                                 free_[c[size_t(b)]];
-          for (int j = 0; j < Dim; ++j) {
-            double* col = values + A.offset[((e * kC + size_t(a)) * kC + size_t(b)) * Dim + size_t(j)];
-            for (int i = 0; i < Dim; ++i) col[i] += dt2 * double(block(i, j));
-          }
-        }
-    }
+    add_element_blocks(double(dt_) * double(dt_), [](size_t) { return 1.0; }, values);
     const Particles<Dim>& p = st_.nodes;
     for (size_t i = 0; i < n_; ++i) {
-      const Mat<Dim> fixed = Mat<Dim>::Identity() - free_[i];
-      for (int a = 0; a < Dim; ++a) {
-        values[A.diagonal[i * Dim + size_t(a)]] += double(p.mass[i]);
-        // The fixed directions: the identity (they are not unknowns; it keeps the factor
-        // definite), entered where the block has them.
-        for (int b = 0; b < Dim; ++b)
-          if (fixed(a, b) != 0) A.matrix.coeffRef(Eigen::Index(i * Dim) + a,
-                                                  Eigen::Index(i * Dim) + b) += double(fixed(a, b));
-      }
+      // The fixed directions: the identity (they are not unknowns; it keeps the factor
+      // definite).
+      add_node_block(i, Mat<Dim>::Identity() - free_[i], values);
+      for (int a = 0; a < Dim; ++a) values[A.diagonal(i * Dim + size_t(a))] += double(p.mass[i]);
     }
+    if (st_.damped)
+      for (size_t k = 0; k < A.damping.size(); ++k) values[k] += double(dt_) * A.damping[k];
     // The factor of an earlier Hessian of this step stays the preconditioner while CG converges
     // with it in a few iterations: refactored at the step's first solve and after a solve that
     // took more than kRefactorAfter iterations.
@@ -273,14 +318,14 @@ class FemPotential {
   }
 
   void apply_hessian(const std::vector<Real>& d, std::vector<Real>& y) {
-    const FemAssembly<Dim>& A = *st_.assembly;
-    Eigen::VectorXd dd(Eigen::Index(d.size()));
-    for (size_t k = 0; k < d.size(); ++k) dd[Eigen::Index(k)] = double(d[k]);
-    const Eigen::VectorXd yy = A.matrix * dd;
+    FemAssembly<Dim>& A = *st_.assembly;
+    A.in.resize(Eigen::Index(d.size()));
+    for (size_t k = 0; k < d.size(); ++k) A.in[Eigen::Index(k)] = double(d[k]);
+    A.out = A.matrix * A.in;
     parallel_for(n_, [&](size_t i) {
       Vec<Dim> yi, di;
       for (int a = 0; a < Dim; ++a) {
-        yi[a] = Real(yy[Eigen::Index(i * Dim) + a]);
+        yi[a] = Real(A.out[Eigen::Index(i * Dim) + a]);
         di[a] = d[i * Dim + size_t(a)];
       }
       Eigen::Map<Vec<Dim>> out(&y[i * Dim]);
@@ -292,12 +337,12 @@ class FemPotential {
     FemAssembly<Dim>& A = *st_.assembly;
     if (direct_) {
       ++A.solve_iterations;
-      Eigen::VectorXd rr(Eigen::Index(r.size()));
-      for (size_t k = 0; k < r.size(); ++k) rr[Eigen::Index(k)] = double(r[k]);
-      const Eigen::VectorXd zz = A.factor.solve(rr);
-      for (size_t k = 0; k < z.size(); ++k) z[k] = Real(zz[Eigen::Index(k)]);
+      A.in.resize(Eigen::Index(r.size()));
+      for (size_t k = 0; k < r.size(); ++k) A.in[Eigen::Index(k)] = double(r[k]);
+      A.out = A.factor.solve(A.in);
+      for (size_t k = 0; k < z.size(); ++k) z[k] = Real(A.out[Eigen::Index(k)]);
     } else {
-      for (size_t k = 0; k < z.size(); ++k) z[k] = Real(r[k] / A.matrix.valuePtr()[A.diagonal[k]]);
+      for (size_t k = 0; k < z.size(); ++k) z[k] = Real(r[k] / A.matrix.valuePtr()[A.diagonal(k)]);
     }
     parallel_for(n_, [&](size_t i) {
       Eigen::Map<Vec<Dim>> zi(&z[i * Dim]);
@@ -308,6 +353,62 @@ class FemPotential {
   bool active(size_t) const { return true; }
 
  private:
+  // values += scale(e) * weight * the elements' Hessians at x_, each block projected to its
+  // nodes' free directions, added in element order (the same sums every time).
+  template <class Scale>
+  void add_element_blocks(double weight, Scale&& scale, double* values) {
+    FemAssembly<Dim>& A = *st_.assembly;
+    const FemElements<Dim>& el = st_.elements;
+    constexpr int kC = Dim + 1;
+    h_.resize(el.size());
+    parallel_for(el.size(), [&](size_t e) {
+      if (scale(e) != 0) h_[e] = element_hessian(s_, st_, x_, e);
+    });
+    for (size_t e = 0; e < el.size(); ++e) {
+      const double w = weight * scale(e);
+      if (w == 0) continue;
+      const auto& c = el.corners[e];
+      for (int a = 0; a < kC; ++a)
+        for (int b = 0; b < kC; ++b) {
+          const Mat<Dim> block = free_[c[size_t(a)]] *
+                                 h_[e].template block<Dim, Dim>(a * Dim, b * Dim).template cast<Real>() *
+                                 free_[c[size_t(b)]];
+          for (int j = 0; j < Dim; ++j) {
+            double* col = values + A.offset[((e * kC + size_t(a)) * kC + size_t(b)) * Dim + size_t(j)];
+            for (int i = 0; i < Dim; ++i) col[i] += w * double(block(i, j));
+          }
+        }
+    }
+  }
+
+  // values += B in node i's diagonal block.
+  void add_node_block(size_t i, const Mat<Dim>& B, double* values) {
+    const FemAssembly<Dim>& A = *st_.assembly;
+    for (int j = 0; j < Dim; ++j) {
+      double* col = values + A.node_block[i * Dim + size_t(j)];
+      for (int a = 0; a < Dim; ++a) col[a] += double(B(a, j));
+    }
+  }
+
+  // The step's damping matrix alpha M + beta K(x^n), projected to the free directions, so that
+  // the potential's damping term dt/2 v^T D v has the gradient dt D v in the free directions.
+  void assemble_damping() {
+    FemAssembly<Dim>& A = *st_.assembly;
+    A.damping.assign(size_t(A.matrix.nonZeros()), 0.0);
+    x_ = st_.nodes.x;
+    const FemElements<Dim>& el = st_.elements;
+    add_element_blocks(1.0, [&](size_t e) { return double(el.stiffness_damping[e]); },
+                       A.damping.data());
+    for (size_t i = 0; i < n_; ++i)
+      add_node_block(i, st_.mass_damping[i] * free_[i], A.damping.data());
+  }
+
+  Eigen::Map<const Eigen::SparseMatrix<double>> damping_matrix() const {
+    const FemAssembly<Dim>& A = *st_.assembly;
+    return {A.matrix.rows(), A.matrix.cols(), A.matrix.nonZeros(), A.matrix.outerIndexPtr(),
+            A.matrix.innerIndexPtr(), A.damping.data()};
+  }
+
   const MpmSettings& s_;
   FemState<Dim>& st_;
   Real dt_;
@@ -378,8 +479,13 @@ void append_fem_body(const FemMesh& mesh, const std::vector<MaterialParams>& mat
     el.vol0.push_back(Real(volume));
     el.material.push_back(made.material);
     el.fiber.push_back(made.fiber);
+    el.stiffness_damping.push_back(made.stiffness_damping);
+    st->mass_damping.resize(p.size(), Real(0));
+    st->damped = st->damped || made.mass_damping > 0 || made.stiffness_damping > 0;
     for (uint32_t k : c) {
-      p.mass[k] += Real(materials[made.material].rho * volume / (Dim + 1));
+      const Real share = Real(materials[made.material].rho * volume / (Dim + 1));
+      p.mass[k] += share;
+      st->mass_damping[k] += made.mass_damping * share;
       if (!named[k - base]) p.material[k] = made.material, named[k - base] = true;
     }
   }
@@ -438,13 +544,7 @@ void fem_elastic_gradient(const MpmSettings& s, const FemState<Dim>& st,
     const auto g = shape_gradients<Dim>(el.rest_inverse[e]);
     for (int a = 0; a <= Dim; ++a) corner[e * (Dim + 1) + size_t(a)] = el.vol0[e] * (P * g[size_t(a)]);
   });
-  gradient->resize(st.num_nodes());
-  parallel_for(st.num_nodes(), [&](size_t i) {
-    Vec<Dim> sum = Vec<Dim>::Zero();
-    for (uint32_t k = st.incident_begin[i]; k < st.incident_begin[i + 1]; ++k)
-      sum += corner[st.incident[k]];
-    (*gradient)[i] = sum;
-  });
+  gather_corners(st, corner, gradient);
 }
 
 template <int Dim>
@@ -480,6 +580,17 @@ DtLimits fem_dt_limits(const MpmSettings& s, const FemState<Dim>& st) {
   const double h = st.smallest_height;
   l.wave = s.integrator == Integrator::Explicit && c > 0 ? s.cfl * h / c : kInf;
   const Particles<Dim>& p = st.nodes;
+  if (st.damped && std::isfinite(l.wave)) {
+    // Symplectic Euler with the damping force at v^n is stable for dt omega <= 2 (sqrt(1 +
+    // zeta^2) - zeta), zeta = (alpha / omega + beta omega) / 2 the highest mode's damping ratio,
+    // omega = 2 c / h (docs/fem.md).
+    const double beta = double(parallel_max<Real>(
+        st.elements.size(), [&](size_t e) { return st.elements.stiffness_damping[e]; }, 0));
+    const double alpha = double(parallel_max<Real>(
+        p.size(), [&](size_t i) { return st.mass_damping[i] / p.mass[i]; }, 0));
+    const double zeta = beta * c / h + alpha * h / (4 * c);
+    l.wave *= std::sqrt(1 + zeta * zeta) - zeta;
+  }
   const Real v2 = parallel_max<Real>(p.size(), [&](size_t i) { return p.v[i].squaredNorm(); }, 0);
   l.velocity = v2 > 0 ? s.cfl * h / std::sqrt(double(v2)) : kInf;
   return l;
@@ -524,6 +635,36 @@ FemFigures measure_fem(const MpmSettings& s, const FemState<Dim>& st) {
 }
 
 template <int Dim>
+FemElementFigures fem_element_figures(const MpmSettings& s, const FemState<Dim>& st) {
+  const FemElements<Dim>& el = st.elements;
+  FemElementFigures f;
+  f.energy.resize(el.size());
+  f.von_mises.resize(el.size());
+  f.J.resize(el.size());
+  f.fiber.resize(el.size());
+  parallel_for(el.size(), [&](size_t e) {
+    const MaterialParams& m = material_of(s, st, e);
+    const Mat<Dim> F = fem_deformation(st, st.nodes.x, e);
+    const double J = double(F.determinant());
+    f.energy[e] = double(energy_density<Dim>(m, F, el.fiber[e]));
+    f.J[e] = J;
+    f.von_mises[e] = 0;
+    if (J > 0) {
+      Mat<3> sigma = Mat<3>::Zero();
+      sigma.template topLeftCorner<Dim, Dim>() =
+          first_piola<Dim>(m, F, el.fiber[e]) * F.transpose() / Real(J);
+      const Mat<3> dev = sigma - sigma.trace() / 3 * Mat<3>::Identity();
+      f.von_mises[e] = std::sqrt(1.5 * double(dev.squaredNorm()));
+    }
+    const Vec<Dim> a = F * el.fiber[e].col(0);
+    Vec3d dir = Vec3d::Zero();
+    if (a.norm() > 0) dir.head<Dim>() = (a / a.norm()).template cast<double>();
+    f.fiber[e] = dir;
+  });
+  return f;
+}
+
+template <int Dim>
 long find_fem_fault(const MpmSettings& s, const FemState<Dim>& st) {
   const Particles<Dim>& p = st.nodes;
   for (size_t i = 0; i < p.size(); ++i) {
@@ -540,12 +681,14 @@ size_t fem_memory_bytes(const FemState<Dim>& st) {
   const FemElements<Dim>& el = st.elements;
   size_t bytes = st.nodes.memory_bytes();
   bytes += el.size() * (sizeof(typename FemElements<Dim>::Corners) + 2 * sizeof(Mat<Dim>) +
-                        sizeof(Real) + sizeof(uint16_t));
+                        2 * sizeof(Real) + sizeof(uint16_t));
+  bytes += st.mass_damping.size() * sizeof(Real);
   bytes += st.incident.size() * sizeof(uint32_t) + st.faces.size() * sizeof(st.faces[0]);
   if (st.assembly) {
     const FemAssembly<Dim>& a = *st.assembly;
     bytes += size_t(a.matrix.nonZeros()) * (sizeof(double) + sizeof(int)) +
-             a.offset.size() * sizeof(int) + a.diagonal.size() * sizeof(int);
+             (a.offset.size() + a.node_block.size()) * sizeof(int) +
+             a.damping.size() * sizeof(double);
     if (a.analysed) bytes += size_t(a.factor.matrixL().nestedExpression().nonZeros()) * 12;
   }
   return bytes;
@@ -567,6 +710,7 @@ size_t fem_memory_bytes(const FemState<Dim>& st) {
   template double fem_step<D>(const MpmSettings&, FemState<D>*, double, FemSolveStats*);          \
   template FemFigures measure_fem<D>(const MpmSettings&, const FemState<D>&);                     \
   template long find_fem_fault<D>(const MpmSettings&, const FemState<D>&);                      \
+  template FemElementFigures fem_element_figures<D>(const MpmSettings&, const FemState<D>&);    \
   template size_t fem_memory_bytes<D>(const FemState<D>&);
 TEAR_FEM(2)
 TEAR_FEM(3)

@@ -19,8 +19,9 @@
 namespace tear {
 
 // The elements of every body, in body order: corners (indices into the nodes), the rest shape's
-// D_m^-1 (F = D_s D_m^-1, D_s the edges from corner 0), rest volume, material and rest fiber
-// frame. Fixed for a run (built from the meshes, not state).
+// D_m^-1 (F = D_s D_m^-1, D_s the edges from corner 0), rest volume, material, rest fiber
+// frame and Rayleigh stiffness damping beta (s). Fixed for a run (built from the meshes, not
+// state).
 template <int Dim>
 struct FemElements {
   using Corners = std::array<uint32_t, Dim + 1>;
@@ -29,6 +30,7 @@ struct FemElements {
   std::vector<Real> vol0;
   std::vector<uint16_t> material;
   std::vector<Mat<Dim>> fiber;
+  std::vector<Real> stiffness_damping;
   size_t size() const { return corners.size(); }
 };
 
@@ -59,6 +61,10 @@ struct FemState {
   // Per node, the (element, corner) pairs that touch it, element * (Dim + 1) + corner, in
   // element order: the gather of element forces in a fixed order.
   std::vector<uint32_t> incident_begin, incident;
+  // Rayleigh damping (docs/fem.md): per node, alpha m (kg/s) summed over its elements' shares;
+  // `damped`: some element has alpha or beta.
+  std::vector<Real> mass_damping;
+  bool damped = false;
   double smallest_height = 0;  // of all elements at rest (mesh_figures)
   double time = 0;
   long steps = 0;
@@ -66,12 +72,14 @@ struct FemState {
   size_t num_nodes() const { return nodes.size(); }
 };
 
-// What a body's element is made of: its material (an index into the materials) and rest fiber
-// frame.
+// What a body's element is made of: its material (an index into the materials), rest fiber
+// frame and Rayleigh damping: the force -(alpha M + beta K) v, alpha in 1/s (mass), beta in s
+// (stiffness; K the projected stiffness at the step's start).
 template <int Dim>
 struct ElementSetup {
   uint16_t material = 0;
   Mat<Dim> fiber = Mat<Dim>::Identity();
+  Real mass_damping = 0, stiffness_damping = 0;
 };
 
 // Append a body: the mesh's nodes (lumped mass: rho V / (Dim + 1) of each element at each of its
@@ -116,6 +124,16 @@ struct FemFigures {
 };
 template <int Dim>
 FemFigures measure_fem(const MpmSettings& s, const FemState<Dim>& state);
+
+// What each element holds at the nodes' positions, for the frames' volume mesh: strain energy
+// density Psi (J/m^3), the von Mises stress of the Cauchy stress sigma = P F^T / J (Pa; 0 where
+// J <= 0), J = det F, and the current direction of its first fiber, F a1 / |F a1| (z = 0 in 2D).
+struct FemElementFigures {
+  std::vector<double> energy, von_mises, J;
+  std::vector<Vec3d> fiber;
+};
+template <int Dim>
+FemElementFigures fem_element_figures(const MpmSettings& s, const FemState<Dim>& state);
 
 // Bytes held by the nodes, elements, incidence and the implicit solve's matrix and factor.
 template <int Dim>

@@ -31,8 +31,14 @@ std::array<std::array<int, 3>, 4> element_faces(const FemMesh& m, size_t e) {
   return {{{t[1], t[2], t[3]}, {t[0], t[3], t[2]}, {t[0], t[1], t[3]}, {t[0], t[2], t[1]}}};
 }
 
+// Its corners in increasing order (the first `dim`: an edge in 2D). Swaps, not std::sort: GCC 12
+// warns (-Warray-bounds) about std::sort's unrolled insertion sort on three ints.
 std::array<int, 3> sorted_face(std::array<int, 3> f, int dim) {
-  std::sort(f.begin(), f.begin() + dim);
+  if (f[0] > f[1]) std::swap(f[0], f[1]);
+  if (dim == 3) {
+    if (f[1] > f[2]) std::swap(f[1], f[2]);
+    if (f[0] > f[1]) std::swap(f[0], f[1]);
+  }
   return f;
 }
 

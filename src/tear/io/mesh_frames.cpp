@@ -60,11 +60,20 @@ const std::vector<std::string>& mesh_part_formats() {
 }
 
 std::string encode_mesh_part(const MeshPart& part, const std::string& format) {
+  if (part.corners == 4 && format != "vtu")
+    throw std::runtime_error("mesh part '" + part.name + "' is a volume (tetrahedra), written as "
+                             "vtu only, not '" + format + "'");
   if (format == "ply") return encode_mesh_part_ply(part);
   if (format == "obj") return encode_mesh_part_obj(part);
   if (format == "vtu") return encode_mesh_part_vtu(part);
   if (format == "geo") return encode_mesh_part_geo(part);
   throw std::runtime_error("mesh parts are written as ply, obj, vtu or geo, not '" + format + "'");
+}
+
+std::vector<std::string> mesh_part_formats_of(const MeshPart& part,
+                                              const std::vector<std::string>& requested) {
+  if (part.corners == 4) return {"vtu"};
+  return requested;
 }
 
 namespace {
@@ -221,7 +230,17 @@ std::string encode_mesh_part_vtu(const MeshPart& part) {
            "\" format=\"ascii\">" + values(v.columns[c], integer) + "</DataArray>\n";
   }
   out += "      </PointData>\n      <CellData>\n";
+  const bool fiber = e.has("fx") && e.has("fy") && e.has("fz");
+  if (fiber) {
+    out += "        <DataArray type=\"Float32\" Name=\"fiber\" NumberOfComponents=\"3\" "
+           "format=\"ascii\">";
+    for (size_t i = 0; i < e.count; ++i)
+      out += shortest_text(float(e.column("fx")[i])) + " " + shortest_text(float(e.column("fy")[i])) +
+             " " + shortest_text(float(e.column("fz")[i])) + " ";
+    out += "</DataArray>\n";
+  }
   for (size_t c = 0; c < e.names.size(); ++c) {
+    if (fiber && (e.names[c] == "fx" || e.names[c] == "fy" || e.names[c] == "fz")) continue;
     const bool integer = e.types[c] == ColumnType::Int32 || e.types[c] == ColumnType::UInt8;
     out += "        <DataArray type=\"" + std::string(type_of(e.types[c])) + "\" Name=\"" +
            e.names[c] + "\" format=\"ascii\">" + values(e.columns[c], integer) + "</DataArray>\n";
@@ -233,7 +252,8 @@ std::string encode_mesh_part_vtu(const MeshPart& part) {
   out += "</DataArray>\n        <DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">";
   for (size_t k = 1; k <= part.elements.size(); ++k) out += std::to_string(k * size_t(part.corners)) + " ";
   out += "</DataArray>\n        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">";
-  const char* cell = part.corners == 3 ? "5 " : "3 ";  // VTK_TRIANGLE, VTK_LINE
+  const char* cell = part.corners == 4 ? "10 " : part.corners == 3 ? "5 " : "3 ";  // VTK_TETRA,
+                                                                             // _TRIANGLE, _LINE
   for (size_t k = 0; k < part.elements.size(); ++k) out += cell;
   out += "</DataArray>\n      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
   return out;

@@ -15,16 +15,20 @@ namespace tear {
 
 struct MeshPart {
   std::string name;  // "curves", "surfaces" or "fem": the file's part name
-  int corners = 3;   // 2: segments, 3: triangles
+  int corners = 3;   // 2: segments, 3: triangles, 4: tetrahedra (a volume: written as VTU only)
   PointTable vertices;  // id, x y z, vx vy vz, ... (row k is vertex k)
-  std::vector<std::array<uint32_t, 3>> elements;  // vertex rows (segments use the first two)
+  std::vector<std::array<uint32_t, 4>> elements;  // vertex rows (the first `corners` of each)
   PointTable element_columns;  // one row per element: id, contact, ...
 };
 
 // The formats a mesh part can be written in (scene output.mesh_formats): "ply", "obj", "vtu",
 // "geo".
 const std::vector<std::string>& mesh_part_formats();
-// The part encoded in `format` (one of mesh_part_formats()).
+// The formats a run writes `part` in: `requested` (output.mesh_formats) for surfaces and curves;
+// "vtu" alone for a volume (tetrahedra), whatever was requested.
+std::vector<std::string> mesh_part_formats_of(const MeshPart& part,
+                                              const std::vector<std::string>& requested);
+// The part encoded in `format` (one of mesh_part_formats(); a volume only in "vtu").
 std::string encode_mesh_part(const MeshPart& part, const std::string& format);
 // DIR/frames/NNNNN.PART.EXT.
 std::string mesh_part_path(const std::string& dir, int frame, const std::string& part,
@@ -37,8 +41,8 @@ std::string encode_mesh_part_ply(const MeshPart& part);
 // (1-based); OBJ has no place for the other columns.
 std::string encode_mesh_part_obj(const MeshPart& part);
 // VTK XML unstructured grid (ascii): the vertices as Points with their other columns as
-// PointData (vx vy vz as "velocity"), triangles (VTK_TRIANGLE) or segments (VTK_LINE) as cells
-// with the element columns as CellData.
+// PointData (vx vy vz as "velocity"), tetrahedra (VTK_TETRA), triangles (VTK_TRIANGLE) or
+// segments (VTK_LINE) as cells with the element columns as CellData (fx fy fz as "fiber").
 std::string encode_mesh_part_vtu(const MeshPart& part);
 // Houdini's classic ASCII geometry (.geo; the layout of sidefx.com/docs/houdini/io/formats/geo
 // and of VTK's vtkHoudiniPolyDataWriter): "PGEOMETRY V5", the counts, the point attributes
@@ -56,8 +60,9 @@ void write_mesh_part_pvd(const std::string& dir, const std::string& part,
 // index out of range.
 MeshPart decode_mesh_part_ply(const std::string& bytes);
 
-// The part names a run writes: "curves", "surfaces" (codimensional bodies), "fem" (the surfaces
-// of FEM bodies: driver/fem_simulation.cpp).
+// The part names a run writes and reads back: "curves", "surfaces" (codimensional bodies), "fem"
+// (the surfaces of FEM bodies: driver/fem_simulation.cpp). FEM runs in 3D also write the part
+// "volume" (their tetrahedra, VTU only), which is not read back.
 const std::vector<std::string>& mesh_part_names();
 // The codimensional parts of frame `frame` of the run folder `dir`, read from their PLY files
 // (DIR/frames/NNNNN.PART.ply, the default output.mesh_formats); none where the frame has none.

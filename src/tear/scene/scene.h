@@ -60,6 +60,9 @@ struct MaterialSpec {
   DamageParams damage;
   PlasticParams plasticity;  // YieldSurface::None: elastic
   InextensibleParams inextensibility;  // keys inextensible, inextensibility_relaxation
+  // Key rayleigh {"alpha": 1/s, "beta": s}: the damping force -(alpha M + beta K) v of FEM
+  // bodies (docs/fem.md); 0, 0: none.
+  double rayleigh_alpha = 0, rayleigh_beta = 0;
 };
 
 // The points of a "particles" object, read from its PLY file: positions, and whatever else the
@@ -105,7 +108,8 @@ struct ObjectSpec {
   bool fem = false;
   double mesh_size = 0;
   // "initial_nodes": where an FEM body's nodes start (its rest shape is the mesh's): at rest, each
-  // at a random point of the mesh's bounding box, or all at the shape's centre (AnisoMPM Fig. 19).
+  // at a random point of the mesh's bounding box, or all at the shape's centre, each within a
+  // thousandth of mesh_size of it (AnisoMPM Fig. 19; docs/fem.md says why not exactly there).
   enum class NodeStart { Rest, Random, Point };
   NodeStart node_start = NodeStart::Rest;
 };

@@ -136,7 +136,7 @@ MaterialSpec parse_material(const Reader& r, const std::string& name, const json
   r.object(m, path,
            {"model", "E", "nu", "rho", "fiber_scale", "lambda_convention", "damage", "plasticity",
             "inextensible", "inextensibility_relaxation", "normal_stiffness", "shear_stiffness",
-            "friction", "friction_angle", "bending_modulus"});
+            "friction", "friction_angle", "bending_modulus", "rayleigh"});
   MaterialSpec spec;
   spec.name = name;
   std::string model_str = r.string(m, path, "model");
@@ -209,6 +209,17 @@ MaterialSpec parse_material(const Reader& r, const std::string& name, const json
     relaxation = inx.relaxation;
   }
 
+  json rayleigh = nullptr;
+  if (const json* d = r.find(m, "rayleigh")) {
+    const std::string dp = key_path(path, "rayleigh");
+    r.object(*d, dp, {"alpha", "beta"});
+    spec.rayleigh_alpha = r.number(*d, dp, "alpha", 0.0);
+    spec.rayleigh_beta = r.number(*d, dp, "beta", 0.0);
+    r.non_negative(spec.rayleigh_alpha, key_path(dp, "alpha"));
+    r.non_negative(spec.rayleigh_beta, key_path(dp, "beta"));
+    rayleigh = {{"alpha", spec.rayleigh_alpha}, {"beta", spec.rayleigh_beta}};
+  }
+
   if (traits.codimension > 0) {
     // Their friction is their return map; nothing else bends or binds them yet.
     for (const char* key : {"plasticity", "inextensible"})
@@ -226,6 +237,7 @@ MaterialSpec parse_material(const Reader& r, const std::string& name, const json
           {"damage", damage},
           {"plasticity", plasticity}, {"inextensible", inx.enabled},
           {"inextensibility_relaxation", relaxation}};
+  if (!rayleigh.is_null()) (*out)["rayleigh"] = rayleigh;
   out->update(codim);
   return spec;
 }

@@ -280,6 +280,12 @@ json parse_object(const Reader& r, const json& o, const std::string& path, const
       r.fail(key_path(path, "material"), "material \"" + m.name + "\" has " + refused +
                                              ", which FEM bodies do not take yet (docs/fem.md)");
   }
+  if (!spec->fem) {
+    const MaterialSpec& m = scene.materials[size_t(spec->material)];
+    r.check(m.rayleigh_alpha == 0 && m.rayleigh_beta == 0, key_path(path, "material"),
+            "material \"" + m.name + "\" has Rayleigh damping (rayleigh), which only FEM bodies "
+            "take (\"simulation\": \"fem\"; docs/fem.md)");
+  }
   if (model_codimension(model) != 0)
     r.fail(key_path(path, "material"),
            "material \"" + out["material"].get<std::string>() + "\" is " + model_name(model) +
