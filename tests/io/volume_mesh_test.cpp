@@ -92,6 +92,13 @@ std::string gmsh_binary(bool little) {
 
 std::string gmsh_error(const std::string& bytes) { return error_of(decode_gmsh, bytes); }
 
+// `s` with the first `from` replaced by `to` (which must be there).
+std::string edited(std::string s, const std::string& from, const std::string& to) {
+  const size_t at = s.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return at == std::string::npos ? s : s.replace(at, from.size(), to);
+}
+
 // The message with which `f(arg)` refuses its argument.
 template <class F, class A>
 std::string error_in(F f, const A& arg) {
@@ -122,10 +129,10 @@ TEST(Gmsh, TrianglesWithoutTetrahedraAre2D) {
   lifted.replace(lifted.find("1 1 0\n"), 6, "1 1 0.5\n");
   EXPECT_THAT(gmsh_error(lifted), HasSubstr("a 2D mesh must lie in the z = 0 plane (node 3"));
   std::string order2 = s;
-  order2.replace(order2.find("2 1 2 2\n2 1 2 3\n3 2 4 3\n"), 24,
-                 "2 1 9 1\n2 1 2 3 4 1 2\n");
-  EXPECT_THAT(gmsh_error(order2),
-              HasSubstr("gmsh: line 20: element type 9 (6-node second order triangle) is not read"));
+  order2.replace(order2.find("2 1 2 2\n2 1 2 3\n3 2 4 3\n"), 24, "2 1 9 1\n2 1 2 3 4 1 2\n");
+  EXPECT_THAT(
+      gmsh_error(order2),
+      HasSubstr("gmsh: line 20: element type 9 (6-node second order triangle) is not read"));
 }
 
 TEST(Gmsh, RefusesVersion2AndOtherFormats) {
@@ -154,24 +161,21 @@ TEST(Gmsh, RefusesHigherOrderAndOtherSolidsByName) {
 
 TEST(Gmsh, NamesTheLineOfAMissingNode) {
   const std::string s = gmsh_ascii("3 1 4 2\n5 10 20 3 7\n9 20 3 7 99\n");
-  const size_t line = size_t(std::count(s.begin(), s.begin() + long(s.find("9 20 3 7 99")), '\n')) + 1;
+  const size_t line =
+      size_t(std::count(s.begin(), s.begin() + long(s.find("9 20 3 7 99")), '\n')) + 1;
   EXPECT_THAT(gmsh_error(s), HasSubstr("gmsh: line " + std::to_string(line) +
                                        ": element 9 names node 99, the file has 5 nodes"));
 }
 
 TEST(Gmsh, RefusesInconsistentCountsAndTags) {
-  std::string s = gmsh_ascii();
-  s.replace(s.find("$Nodes\n2 5"), 10, "$Nodes\n2 6");
-  EXPECT_THAT(gmsh_error(s), HasSubstr("the entity blocks hold 5 nodes, the header says 6"));
-  s = gmsh_ascii();
-  s.replace(s.find("\n7\n100\n"), 7, "\n7\n3\n");
-  EXPECT_THAT(gmsh_error(s), HasSubstr("node tag 3 appears twice"));
-  s = gmsh_ascii();
-  s.replace(s.find("$EndEntities"), 12, "$EndEntitie");
-  EXPECT_THAT(gmsh_error(s), HasSubstr("$Entities is not closed by $EndEntities"));
-  s = gmsh_ascii();
-  s.replace(s.find("0 1 0 2\n"), 8, "0 1 0 999999999999\n");
-  EXPECT_THAT(gmsh_error(s), HasSubstr("999999999999 nodes do not fit"));
+  EXPECT_THAT(gmsh_error(edited(gmsh_ascii(), "$Nodes\n2 5", "$Nodes\n2 6")),
+              HasSubstr("the entity blocks hold 5 nodes, the header says 6"));
+  EXPECT_THAT(gmsh_error(edited(gmsh_ascii(), "\n7\n100\n", "\n7\n3\n")),
+              HasSubstr("node tag 3 appears twice"));
+  EXPECT_THAT(gmsh_error(edited(gmsh_ascii(), "$EndEntities", "$EndEntitie")),
+              HasSubstr("$Entities is not closed by $EndEntities"));
+  EXPECT_THAT(gmsh_error(edited(gmsh_ascii(), "0 1 0 2\n", "0 1 0 999999999999\n")),
+              HasSubstr("999999999999 nodes do not fit"));
 }
 
 TEST(Gmsh, BinaryRefusesLyingCountsAndTruncationByOffset) {
@@ -180,7 +184,8 @@ TEST(Gmsh, BinaryRefusesLyingCountsAndTruncationByOffset) {
   // The first block's node count (after its three ints) claims 2^40 nodes.
   const size_t at = good.find("\n$Nodes\n") + 8 + 4 * 8 + 3 * 4;
   store_le<uint64_t>(&s[at], uint64_t(1) << 40);
-  EXPECT_THAT(gmsh_error(s), HasSubstr("gmsh: byte " + std::to_string(at) + ": 1099511627776 nodes do not fit"));
+  EXPECT_THAT(gmsh_error(s),
+              HasSubstr("gmsh: byte " + std::to_string(at) + ": 1099511627776 nodes do not fit"));
   EXPECT_THAT(gmsh_error(good.substr(0, good.find("$Elements\n") + 10 + 20)),
               HasSubstr("the file ends inside the smallest element tag"));
   s = good;
@@ -212,9 +217,9 @@ TEST(Tetgen, ReadsBaseOneWithAttributesAndMarkers) {
 }
 
 TEST(Tetgen, TriangleFilesAre2D) {
-  expect_same_mesh(decode_tetgen("4 2 0 1\n1 0 0 1\n2 1 0 1\n3 0 1 1\n4 1 1 0\n",
-                                 "2 3 0\n1 1 2 3\n2 2 4 3\n"),
-                   two_triangles());
+  expect_same_mesh(
+      decode_tetgen("4 2 0 1\n1 0 0 1\n2 1 0 1\n3 0 1 1\n4 1 1 0\n", "2 3 0\n1 1 2 3\n2 2 4 3\n"),
+      two_triangles());
 }
 
 TEST(Tetgen, RefusesWithFileAndLine) {
@@ -296,27 +301,28 @@ TEST(VolumeVtu, TrianglesWithoutSolidsAre2D) {
   s.replace(s.find("0 0 0 1 0 0 0 1 0 0 0 1 1 1 1"), 29, "0 0 0 1 0 0 0 1 0 1 1 0 5 5 0");
   const VolumeMesh m = decode_volume_vtu(s);
   EXPECT_EQ(m.dim, 2);
-  EXPECT_EQ(m.cells, (std::vector<std::array<uint32_t, 4>>{{0, 1, 2, 0}, {0, 1, 3, 0}, {1, 3, 2, 0}}));
+  EXPECT_EQ(m.cells,
+            (std::vector<std::array<uint32_t, 4>>{{0, 1, 2, 0}, {0, 1, 3, 0}, {1, 3, 2, 0}}));
   EXPECT_EQ(m.cell_columns.column("energy"), (std::vector<double>{0.5, 8, 0.25}));
 }
 
 TEST(VolumeVtu, RefusesOtherSolidsCompressionAndBadIndices) {
   EXPECT_THAT(vtu_error(vtu_ascii("1 24 5 10")), HasSubstr("cell 1 is VTK_QUADRATIC_TETRA (24)"));
-  EXPECT_THAT(vtu_error(vtu_ascii("1 10 5 12")), HasSubstr("cell 3 is VTK_HEXAHEDRON (12): tear reads VTK_TETRA (10) and VTK_TRIANGLE (5)"));
+  EXPECT_THAT(
+      vtu_error(vtu_ascii("1 10 5 12")),
+      HasSubstr("cell 3 is VTK_HEXAHEDRON (12): tear reads VTK_TETRA (10) and VTK_TRIANGLE (5)"));
   EXPECT_THAT(vtu_error(vtu_ascii("1 10 5 99")), HasSubstr("cell 3 has type 99"));
-  std::string s = vtu_ascii();
-  s.replace(s.find("version=\"0.1\""), 13, "version=\"0.1\" compressor=\"vtkZLibDataCompressor\"");
-  EXPECT_THAT(vtu_error(s), HasSubstr("compressed VTU is not read (save uncompressed)"));
-  s = vtu_ascii();
-  s.replace(s.find("2 1 2 3 4"), 9, "2 1 2 3 5");
-  EXPECT_THAT(vtu_error(s), HasSubstr("connectivity value 11 is 5 (0 to 4)"));
-  s = vtu_ascii();
-  s.replace(s.find("9 0.5 8 0.25"), 12, "9 0.5 8");
-  EXPECT_THAT(vtu_error(s), HasSubstr("array 'energy' has 3 values, expected 4 cells"));
+  EXPECT_THAT(vtu_error(edited(vtu_ascii(), "version=\"0.1\"",
+                               "version=\"0.1\" compressor=\"vtkZLibDataCompressor\"")),
+              HasSubstr("compressed VTU is not read (save uncompressed)"));
+  EXPECT_THAT(vtu_error(edited(vtu_ascii(), "2 1 2 3 4", "2 1 2 3 5")),
+              HasSubstr("connectivity value 11 is 5 (0 to 4)"));
+  EXPECT_THAT(vtu_error(edited(vtu_ascii(), "9 0.5 8 0.25", "9 0.5 8")),
+              HasSubstr("array 'energy' has 3 values, expected 4 cells"));
   EXPECT_THAT(vtu_error(vtu_ascii("1 1 3 3")), HasSubstr("no tetrahedra or triangles"));
-  s = vtu_ascii();
-  s.insert(s.find("format=\"ascii\">0 0 0 1 0 0 0 1"), "offset=\"0\" ");
-  EXPECT_THAT(vtu_error(s), HasSubstr("appended data"));
+  EXPECT_THAT(vtu_error(edited(vtu_ascii(), "format=\"ascii\">0 0 0 1 0 0 0 1",
+                               "offset=\"0\" format=\"ascii\">0 0 0 1 0 0 0 1")),
+              HasSubstr("appended data"));
 }
 
 TEST(VolumeVtu, RoundTripsColumns) {
@@ -354,7 +360,8 @@ TEST(VolumeVtu, RoundTripsColumns) {
 TEST(VolumeVtu, WriterRefusesInconsistentMeshes) {
   VolumeMesh m = two_tets();
   m.cells[1][3] = 5;
-  EXPECT_THAT(error_in(encode_volume_vtu, m), HasSubstr("cell 1 names node 5, the mesh has 5 nodes"));
+  EXPECT_THAT(error_in(encode_volume_vtu, m),
+              HasSubstr("cell 1 names node 5, the mesh has 5 nodes"));
   m = two_tets();
   m.node_columns.count = 5;
   m.node_columns.add("x", ColumnType::Float32, std::vector<double>(5, 0));

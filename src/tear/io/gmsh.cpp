@@ -155,7 +155,8 @@ class MshReader {
     if (binary_) return raw<double>(what);
     const std::string_view tok = token(what);
     double v = 0;
-    if (!parse_real(tok, &v)) fail("expected " + std::string(what) + ", found '" + shown(tok) + "'");
+    if (!parse_real(tok, &v))
+      fail("expected " + std::string(what) + ", found '" + shown(tok) + "'");
     return v;
   }
   // A count of things of at least `bytes_each` bytes apiece (in the file's encoding), checked
@@ -176,8 +177,7 @@ class MshReader {
       fail("version " + shown(version) +
            " files are not read; save as MSH 4.1 (gmsh -format msh41)");
     const std::string_view type = token("the file-type");
-    if (type != "0" && type != "1")
-      fail("file-type '" + shown(type) + "' (0: ASCII, 1: binary)");
+    if (type != "0" && type != "1") fail("file-type '" + shown(type) + "' (0: ASCII, 1: binary)");
     const std::string_view size = token("the data-size");
     if (size != "8") fail("data-size '" + shown(size) + "' (only 8, a 64-bit size_t, is read)");
     if (type == "1") {
@@ -265,8 +265,8 @@ class MshReader {
       const MshType* t = find_msh_type(type);
       if (!t) fail("element type " + std::to_string(type) + " (not a gmsh type this reader knows)");
       if (t->dim != dim)
-        fail("element type " + std::to_string(type) + " (" + t->name + ") in an entity of dimension " +
-             std::to_string(dim));
+        fail("element type " + std::to_string(type) + " (" + t->name +
+             ") in an entity of dimension " + std::to_string(dim));
       const std::string what =
           "element type " + std::to_string(type) + " (" + t->name + ") is not read: " + kRead;
       if (!t->linear && t->dim >= 2) fail(what);

@@ -27,8 +27,8 @@ void check_volume_mesh(const VolumeMesh& m, const std::string& context) {
   if (m.dim == 2)
     for (size_t i = 0; i < m.nodes.size(); ++i)
       if (m.nodes[i][2] != 0)
-        fail("a 2D mesh must lie in the z = 0 plane (node " + std::to_string(i) + " has z = " +
-             shortest_text(m.nodes[i][2]) + ")");
+        fail("a 2D mesh must lie in the z = 0 plane (node " + std::to_string(i) +
+             " has z = " + shortest_text(m.nodes[i][2]) + ")");
   auto check_table = [&](const PointTable& t, size_t rows, const char* what) {
     if (t.names.empty() && t.columns.empty()) return;
     t.check_shape();
@@ -150,8 +150,9 @@ VolumeMesh decode_volume_vtu(const std::string& bytes) {
     const VtkCell* c = nullptr;
     for (const VtkCell& k : kVtkCells)
       if (k.type == int(t)) c = &k;
-    if (!c) fail("cell " + std::to_string(e) + " has type " + std::to_string(t) +
-                 " (not a VTK cell type this reader knows)");
+    if (!c)
+      fail("cell " + std::to_string(e) + " has type " + std::to_string(t) +
+           " (not a VTK cell type this reader knows)");
     type[e] = c;
     dim = std::max(dim, c->dim);
   }
@@ -165,7 +166,8 @@ VolumeMesh decode_volume_vtu(const std::string& bytes) {
     if (end < begin) fail("the offsets decrease at cell " + std::to_string(e));
     if (type[e]->dim == dim && type[e]->type != keep)
       fail("cell " + std::to_string(e) + " is " + type[e]->name + " (" +
-           std::to_string(type[e]->type) + "): tear reads VTK_TETRA (10) and VTK_TRIANGLE (5) cells");
+           std::to_string(type[e]->type) +
+           "): tear reads VTK_TETRA (10) and VTK_TRIANGLE (5) cells");
     if (type[e]->points != 0 && end - begin != size_t(type[e]->points))
       fail("cell " + std::to_string(e) + " (" + type[e]->name + ") has " +
            std::to_string(end - begin) + " points, not " + std::to_string(type[e]->points));
@@ -202,14 +204,7 @@ VolumeMesh decode_volume_vtu(const std::string& bytes) {
 std::string encode_volume_vtu(const VolumeMesh& m) {
   check_volume_mesh(m);
   const int k = corners(m);
-  std::string out =
-      "<?xml version=\"1.0\"?>\n"
-      "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
-      "header_type=\"UInt64\">\n"
-      "  <UnstructuredGrid>\n"
-      "    <Piece NumberOfPoints=\"" +
-      std::to_string(m.nodes.size()) + "\" NumberOfCells=\"" + std::to_string(m.cells.size()) +
-      "\">\n";
+  std::string out = vtk_grid_begin(m.nodes.size(), m.cells.size());
   auto data = [&](const char* element, const PointTable& t, size_t rows) {
     out += std::string("      <") + element + ">\n";
     if (!t.names.empty())
@@ -220,7 +215,8 @@ std::string encode_volume_vtu(const VolumeMesh& m) {
   };
   data("PointData", m.node_columns, m.nodes.size());
   data("CellData", m.cell_columns, m.cells.size());
-  std::string points, connectivity, offsets, types(m.cells.size(), char(m.dim == 3 ? kVtkTetra : kVtkTriangle));
+  std::string points, connectivity, offsets,
+      types(m.cells.size(), char(m.dim == 3 ? kVtkTetra : kVtkTriangle));
   points.reserve(24 * m.nodes.size());
   for (const auto& x : m.nodes)
     for (double c : x) append_le(&points, c);
@@ -231,15 +227,8 @@ std::string encode_volume_vtu(const VolumeMesh& m) {
   }
   out += "      <Points>\n";
   write_vtk_array(&out, "        ", "Points", "Float64", 3, points);
-  out += "      </Points>\n      <Cells>\n";
-  write_vtk_array(&out, "        ", "connectivity", "Int64", 1, connectivity);
-  write_vtk_array(&out, "        ", "offsets", "Int64", 1, offsets);
-  write_vtk_array(&out, "        ", "types", "UInt8", 1, types);
-  out +=
-      "      </Cells>\n"
-      "    </Piece>\n"
-      "  </UnstructuredGrid>\n"
-      "</VTKFile>\n";
+  out += "      </Points>\n";
+  write_vtk_cells_and_end(&out, connectivity, offsets, types);
   return out;
 }
 

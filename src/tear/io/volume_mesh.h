@@ -15,8 +15,8 @@
 namespace tear {
 
 struct VolumeMesh {
-  int dim = 3;                                // 3: tetrahedra, 2: triangles
-  std::vector<std::array<double, 3>> nodes;   // z = 0 in 2D
+  int dim = 3;                                 // 3: tetrahedra, 2: triangles
+  std::vector<std::array<double, 3>> nodes;    // z = 0 in 2D
   std::vector<std::array<uint32_t, 4>> cells;  // 0-based node indices; the 4th 0 for triangles
   // For writing (and what decode_volume_vtu reads back): one row per node (e.g. vx vy vz) and
   // one per cell (e.g. energy, fx fy fz); no columns x, y, z (the nodes are the positions).

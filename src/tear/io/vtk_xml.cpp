@@ -372,6 +372,28 @@ void write_vtk_array(std::string* out, const char* indent, const std::string& na
   *out += "</DataArray>\n";
 }
 
+std::string vtk_grid_begin(size_t points, size_t cells) {
+  return "<?xml version=\"1.0\"?>\n"
+         "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
+         "header_type=\"UInt64\">\n"
+         "  <UnstructuredGrid>\n"
+         "    <Piece NumberOfPoints=\"" +
+         std::to_string(points) + "\" NumberOfCells=\"" + std::to_string(cells) + "\">\n";
+}
+
+void write_vtk_cells_and_end(std::string* out, const std::string& connectivity,
+                             const std::string& offsets, const std::string& types) {
+  *out += "      <Cells>\n";
+  write_vtk_array(out, "        ", "connectivity", "Int64", 1, connectivity);
+  write_vtk_array(out, "        ", "offsets", "Int64", 1, offsets);
+  write_vtk_array(out, "        ", "types", "UInt8", 1, types);
+  *out +=
+      "      </Cells>\n"
+      "    </Piece>\n"
+      "  </UnstructuredGrid>\n"
+      "</VTKFile>\n";
+}
+
 // The raw little-endian values of a grouped attribute, component-interleaved.
 std::string vtk_attribute_bytes(const PointAttribute& a, size_t n) {
   std::string raw;

@@ -50,6 +50,14 @@ void add_vtk_columns(const VtkArray& a, size_t tuples, const char* what,
 // [UInt64 byte count][raw], on a line of its own after `indent`.
 void write_vtk_array(std::string* out, const char* indent, const std::string& name,
                      const char* type, size_t components, const std::string& raw);
+// The beginning of the binary unstructured grid the writers write: the XML declaration,
+// <VTKFile ... header_type="UInt64">, <UnstructuredGrid> and <Piece NumberOfPoints=
+// NumberOfCells=>, each on a line of its own.
+std::string vtk_grid_begin(size_t points, size_t cells);
+// Appends the <Cells> of an unstructured grid (connectivity and offsets Int64, types UInt8,
+// each raw little-endian) and closes the Piece, the grid and the file.
+void write_vtk_cells_and_end(std::string* out, const std::string& connectivity,
+                             const std::string& offsets, const std::string& types);
 // The little-endian values of an attribute, component-interleaved, as vtk_type_name says.
 std::string vtk_attribute_bytes(const PointAttribute& a, size_t n);
 // Int32 for integer attributes, Float64 where any component is Float64, else Float32.

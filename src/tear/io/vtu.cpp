@@ -21,21 +21,14 @@ std::string encode_vtu(const PointTable& t) {
   if (points == attrs.end())
     throw std::runtime_error("VTU needs the position columns x, y (and z)");
   const size_t n = t.count;
-  const std::string count = std::to_string(n);
-  std::string out =
-      "<?xml version=\"1.0\"?>\n"
-      "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
-      "header_type=\"UInt64\">\n"
-      "  <UnstructuredGrid>\n"
-      "    <Piece NumberOfPoints=\"" +
-      count + "\" NumberOfCells=\"" + count + "\">\n      <PointData>\n";
+  std::string out = vtk_grid_begin(n, n) + "      <PointData>\n";
   for (const PointAttribute& a : attrs)
     if (!a.position)
       write_vtk_array(&out, "        ", a.name, vtk_type_name(a), a.components.size(),
                   vtk_attribute_bytes(a, n));
   out += "      </PointData>\n      <Points>\n";
   write_vtk_array(&out, "        ", "Points", vtk_type_name(*points), 3, vtk_attribute_bytes(*points, n));
-  out += "      </Points>\n      <Cells>\n";
+  out += "      </Points>\n";
   std::string connectivity, offsets, types(n, '\x01');  // VTK_VERTEX
   connectivity.reserve(8 * n);
   offsets.reserve(8 * n);
@@ -43,14 +36,7 @@ std::string encode_vtu(const PointTable& t) {
     append_le<int64_t>(&connectivity, int64_t(i));
     append_le<int64_t>(&offsets, int64_t(i + 1));
   }
-  write_vtk_array(&out, "        ", "connectivity", "Int64", 1, connectivity);
-  write_vtk_array(&out, "        ", "offsets", "Int64", 1, offsets);
-  write_vtk_array(&out, "        ", "types", "UInt8", 1, types);
-  out +=
-      "      </Cells>\n"
-      "    </Piece>\n"
-      "  </UnstructuredGrid>\n"
-      "</VTKFile>\n";
+  write_vtk_cells_and_end(&out, connectivity, offsets, types);
   return out;
 }
 
