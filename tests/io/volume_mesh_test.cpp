@@ -325,6 +325,17 @@ TEST(VolumeVtu, RefusesOtherSolidsCompressionAndBadIndices) {
               HasSubstr("appended data"));
 }
 
+TEST(VolumeVtu, AsciiValuesAreWhatTheirTypeHolds) {
+  // A Float32 array's 0.1 is float(0.1), so that writing it as Float32 again keeps it (a fuzz
+  // finding: 4.4e59 came back as inf); integers must be whole and in range.
+  const VolumeMesh m = decode_volume_vtu(edited(vtu_ascii(), ">0 0 0 1 0 0 2", ">0.1 0 0 1 0 0 2"));
+  EXPECT_EQ(m.node_columns.column("vx")[0], double(0.1f));
+  EXPECT_THAT(vtu_error(edited(vtu_ascii(), ">0 0 0 1 0 0 2", ">4e59 0 0 1 0 0 2")),
+              HasSubstr("array 'velocity': ascii value 4e59 is not a Float32"));
+  EXPECT_THAT(vtu_error(edited(vtu_ascii(), ">4 0 1 2 3", ">4.5 0 1 2 3")),
+              HasSubstr("array 'connectivity': ascii value 4.5 is not a Int32"));
+}
+
 TEST(VolumeVtu, RoundTripsColumns) {
   for (int dim : {3, 2}) {
     VolumeMesh m = dim == 3 ? two_tets() : two_triangles();

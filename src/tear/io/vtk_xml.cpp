@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 
 #include "tear/io/endian.h"
@@ -211,6 +213,29 @@ size_t count_attribute(const std::string& text, const std::string& what) {
   return n;
 }
 
+// Whether an ascii value `v` is one that type `t` holds, made what it holds: rounded to float for
+// Float32 (whose range it must be in, or infinite or NaN), whole and in range for the integers.
+bool hold_as(NumberType t, double* v) {
+  const double x = *v;
+  switch (t) {
+    case NumberType::Float64: return true;
+    case NumberType::Float32:
+      if (std::isfinite(x) && std::fabs(x) > double(std::numeric_limits<float>::max()))
+        return false;
+      *v = double(float(x));
+      return true;
+    case NumberType::Int8: return x == std::floor(x) && x >= -128 && x <= 127;
+    case NumberType::UInt8: return x == std::floor(x) && x >= 0 && x <= 255;
+    case NumberType::Int16: return x == std::floor(x) && x >= -32768 && x <= 32767;
+    case NumberType::UInt16: return x == std::floor(x) && x >= 0 && x <= 65535;
+    case NumberType::Int32: return x == std::floor(x) && x >= -2147483648.0 && x <= 2147483647.0;
+    case NumberType::UInt32: return x == std::floor(x) && x >= 0 && x <= 4294967295.0;
+    case NumberType::Int64: return x == std::floor(x) && x >= -0x1p63 && x < 0x1p63;
+    case NumberType::UInt64: return x == std::floor(x) && x >= 0 && x < 0x1p64;
+  }
+  return false;
+}
+
 // The values of a DataArray whose text is [p, end).
 std::vector<double> read_values(const VtkArray& a, const std::string& format, size_t header_size,
                                 const char* p, const char* end) {
@@ -222,8 +247,12 @@ std::vector<double> read_values(const VtkArray& a, const std::string& format, si
       while (std::isspace(static_cast<unsigned char>(*q))) ++q;
       if (!*q) break;
       char* stop = nullptr;
-      v.push_back(std::strtod(q, &stop));
+      double x = std::strtod(q, &stop);
       if (stop == q) fail("array '" + a.name + "': non-numeric ascii value");
+      if (!hold_as(a.number, &x))
+        fail("array '" + a.name + "': ascii value " + std::string(q, std::min<const char*>(stop, q + 40)) +
+             " is not a " + a.type);
+      v.push_back(x);
       q = stop;
     }
     return v;
@@ -360,8 +389,8 @@ void add_vtk_columns(const VtkArray& a, size_t tuples, const char* what,
     t->columns.push_back(std::move(c));
   }
 }
-void write_vtk_array(std::string* out, const char* indent, const std::string& name, const char* type,
-                 size_t components, const std::string& raw) {
+void write_vtk_array(std::string* out, const char* indent, const std::string& name,
+                     const char* type, size_t components, const std::string& raw) {
   *out += indent;
   *out += "<DataArray type=\"" + std::string(type) + "\" Name=\"" + xml_escape(name) + "\"";
   if (components != 1) *out += " NumberOfComponents=\"" + std::to_string(components) + "\"";
