@@ -184,8 +184,6 @@ VolumeMesh decode_volume_vtu(const std::string& bytes) {
     fail("the connectivity array has " + std::to_string(connectivity.values.size()) +
          " values, the offsets end at " + std::to_string(begin));
 
-  std::vector<size_t> all(piece.points);
-  for (size_t i = 0; i < all.size(); ++i) all[i] = i;
   m.node_columns.count = piece.points;
   m.cell_columns.count = kept.size();
   ColumnNames node_names, cell_names;
@@ -193,9 +191,9 @@ VolumeMesh decode_volume_vtu(const std::string& bytes) {
     if (a.parent != "PointData" && a.parent != "CellData") continue;
     if (a.name.empty()) fail("a " + a.parent + " array without a Name");
     if (a.parent == "PointData")
-      add_vtk_columns(a, piece.points, "points", all, &m.node_columns, &node_names);
+      add_vtk_columns(a, piece.points, "points", nullptr, &m.node_columns, &node_names);
     else
-      add_vtk_columns(a, n, "cells", kept, &m.cell_columns, &cell_names);
+      add_vtk_columns(a, n, "cells", &kept, &m.cell_columns, &cell_names);
   }
   check_volume_mesh(m, "bad VTU: ");
   return m;

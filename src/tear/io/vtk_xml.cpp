@@ -365,7 +365,7 @@ VtkPiece read_vtk_piece(const std::string& bytes,
 }
 
 void add_vtk_columns(const VtkArray& a, size_t tuples, const char* what,
-                     const std::vector<size_t>& rows, PointTable* t, ColumnNames* names) {
+                     const std::vector<size_t>* rows, PointTable* t, ColumnNames* names) {
   // Divided, not multiplied: tuples x components can wrap around.
   if (a.values.size() % a.components != 0 || a.values.size() / a.components != tuples)
     fail("array '" + a.name + "' has " + std::to_string(a.values.size()) + " values, expected " +
@@ -382,8 +382,9 @@ void add_vtk_columns(const VtkArray& a, size_t tuples, const char* what,
   std::string why;
   for (size_t k = 0; k < cols.size(); ++k) {
     if (!names->add(cols[k], &why)) fail("array '" + a.name + "' gives " + why);
-    std::vector<double> c(rows.size());
-    for (size_t i = 0; i < rows.size(); ++i) c[i] = a.values[rows[i] * a.components + k];
+    std::vector<double> c(rows ? rows->size() : tuples);
+    for (size_t i = 0; i < c.size(); ++i)
+      c[i] = a.values[(rows ? (*rows)[i] : i) * a.components + k];
     t->names.push_back(cols[k]);
     t->types.push_back(exact_column_type(a.number));
     t->columns.push_back(std::move(c));

@@ -41,10 +41,11 @@ VtkPiece read_vtk_piece(const std::string& bytes,
 
 // The columns an array of `tuples` tuples (`what`: "points", "cells") gives, named by
 // attribute_columns() (VTU flavour), of the array's exact type, with the tuples `rows` (each
-// below `tuples`) as their rows, added to `t`. Throws std::runtime_error("bad VTU: ...") on a
-// wrong size, a repeated or over-long name, more than kMaxColumns columns.
+// below `tuples`; nullptr: all of them) as their rows, added to `t`. Throws
+// std::runtime_error("bad VTU: ...") on a wrong size, a repeated or over-long name, more than
+// kMaxColumns columns.
 void add_vtk_columns(const VtkArray& a, size_t tuples, const char* what,
-                     const std::vector<size_t>& rows, PointTable* t, ColumnNames* names);
+                     const std::vector<size_t>* rows, PointTable* t, ColumnNames* names);
 
 // Appends <DataArray type= Name= [NumberOfComponents=] format="binary"> with base64 of
 // [UInt64 byte count][raw], on a line of its own after `indent`.

@@ -45,8 +45,6 @@ PointTable decode_vtu(const std::string& bytes) {
       bytes, [](const std::string& parent) { return parent == "PointData" || parent == "Points"; });
   PointTable t;
   t.count = piece.points;
-  std::vector<size_t> rows(piece.points);
-  for (size_t i = 0; i < rows.size(); ++i) rows[i] = i;
   ColumnNames columns;
   const auto p = std::find_if(piece.arrays.begin(), piece.arrays.end(),
                               [](const VtkArray& a) { return a.parent == "Points"; });
@@ -56,11 +54,11 @@ PointTable decode_vtu(const std::string& bytes) {
                              " components, not 3");
   VtkArray position = *p;
   position.name = "Points";  // whatever its Name, it is the position
-  add_vtk_columns(position, piece.points, "points", rows, &t, &columns);
+  add_vtk_columns(position, piece.points, "points", nullptr, &t, &columns);
   for (const VtkArray& a : piece.arrays) {
     if (a.parent != "PointData") continue;
     if (a.name.empty()) throw std::runtime_error("bad VTU: a point array without a Name");
-    add_vtk_columns(a, piece.points, "points", rows, &t, &columns);
+    add_vtk_columns(a, piece.points, "points", nullptr, &t, &columns);
   }
   return t;
 }
