@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <string>
+#include <string_view>
 
 #include "tear/io/endian.h"
 #include "tear/io/point_table.h"
@@ -92,6 +93,20 @@ inline bool parse_count(const std::string& text, size_t* n) {
     if (c < '0' || c > '9') return false;
   *n = size_t(std::strtoull(text.c_str(), nullptr, 10));
   return true;
+}
+
+// A whole token as a number: decimal or exponent notation (from_chars: no leading '+'), or an
+// integer of at most 18 digits with an optional '-'. False for anything else.
+inline bool parse_real(std::string_view text, double* v) {
+  const char* end = text.data() + text.size();
+  const std::from_chars_result r = std::from_chars(text.data(), end, *v);
+  return r.ec == std::errc() && r.ptr == end;
+}
+inline bool parse_integer(std::string_view text, int64_t* v) {
+  if (text.empty() || text.size() > 19) return false;
+  const char* end = text.data() + text.size();
+  const std::from_chars_result r = std::from_chars(text.data(), end, *v);
+  return r.ec == std::errc() && r.ptr == end;
 }
 
 }  // namespace tear

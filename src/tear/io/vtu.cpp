@@ -1,10 +1,7 @@
 #include "tear/io/vtu.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cstdint>
-#include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <stdexcept>
 
@@ -13,280 +10,9 @@
 #include "tear/io/frames.h"
 #include "tear/io/numbers.h"
 #include "tear/io/point_groups.h"
+#include "tear/io/vtk_xml.h"
 
 namespace tear {
-
-namespace {
-
-[[noreturn]] void fail(const std::string& why) { throw std::runtime_error("bad VTU: " + why); }
-
-// --- base64 (RFC 4648, with padding)
-
-const char kBase64[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-
-std::string base64_encode(const std::string& in) {
-  std::string out;
-  out.reserve((in.size() + 2) / 3 * 4);
-  size_t i = 0;
-  for (; i + 3 <= in.size(); i += 3) {
-    const uint32_t v = uint32_t(uint8_t(in[i])) << 16 | uint32_t(uint8_t(in[i + 1])) << 8 |
-                       uint32_t(uint8_t(in[i + 2]));
-    for (int s = 18; s >= 0; s -= 6) out += kBase64[(v >> s) & 63];
-  }
-  if (i < in.size()) {
-    uint32_t v = uint32_t(uint8_t(in[i])) << 16;
-    if (i + 1 < in.size()) v |= uint32_t(uint8_t(in[i + 1])) << 8;
-    out += kBase64[(v >> 18) & 63];
-    out += kBase64[(v >> 12) & 63];
-    out += i + 1 < in.size() ? kBase64[(v >> 6) & 63] : '=';
-    out += '=';
-  }
-  return out;
-}
-
-// Whitespace is skipped; padding may end a quad anywhere, since some writers encode the header
-// and the data as two base64 runs one after the other.
-std::string base64_decode(const char* p, const char* end, const std::string& array) {
-  int value[256];
-  std::fill(value, value + 256, -1);
-  for (int k = 0; k < 64; ++k) value[uint8_t(kBase64[k])] = k;
-  std::string out;
-  out.reserve(size_t(end - p) / 4 * 3);
-  uint32_t quad = 0;
-  int have = 0, pad = 0;
-  for (; p < end; ++p) {
-    const unsigned char c = uint8_t(*p);
-    if (std::isspace(c)) continue;
-    if (c == '=') {
-      if (have < 2) fail("array '" + array + "': misplaced '=' in its base64 data");
-      ++pad;
-    } else if (value[c] < 0 || pad > 0) {
-      fail("array '" + array + "': invalid base64 data");
-    }
-    quad = quad << 6 | uint32_t(c == '=' ? 0 : value[c]);
-    if (++have == 4) {
-      out += char(quad >> 16);
-      if (pad < 2) out += char(quad >> 8 & 255);
-      if (pad < 1) out += char(quad & 255);
-      quad = 0;
-      have = pad = 0;
-    }
-  }
-  if (have != 0) fail("array '" + array + "': base64 data ends inside a group of four");
-  return out;
-}
-
-// --- VTK value types
-
-struct VtkType {
-  const char* name;
-  NumberType number;
-};
-
-const VtkType kTypes[] = {
-    {"Int8", NumberType::Int8},       {"UInt8", NumberType::UInt8},
-    {"Int16", NumberType::Int16},     {"UInt16", NumberType::UInt16},
-    {"Int32", NumberType::Int32},     {"UInt32", NumberType::UInt32},
-    {"Int64", NumberType::Int64},     {"UInt64", NumberType::UInt64},
-    {"Float32", NumberType::Float32}, {"Float64", NumberType::Float64},
-};
-
-const VtkType* find_type(const std::string& name) {
-  for (const VtkType& t : kTypes)
-    if (name == t.name) return &t;
-  return nullptr;
-}
-
-// --- XML: just enough for the files encode_vtu and encode_pvd write
-
-std::string xml_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
-
-std::string xml_unescape(const std::string& s) {
-  static const struct {
-    const char* entity;
-    char c;
-  } kEntities[] = {{"&amp;", '&'}, {"&lt;", '<'}, {"&gt;", '>'}, {"&quot;", '"'}, {"&apos;", '\''}};
-  std::string out;
-  for (size_t i = 0; i < s.size();) {
-    bool replaced = false;
-    if (s[i] == '&')
-      for (const auto& e : kEntities)
-        if (s.compare(i, std::strlen(e.entity), e.entity) == 0) {
-          out += e.c;
-          i += std::strlen(e.entity);
-          replaced = true;
-          break;
-        }
-    if (!replaced) out += s[i++];
-  }
-  return out;
-}
-
-struct Tag {
-  std::string name;
-  std::vector<std::pair<std::string, std::string>> attrs;
-  bool closing = false, empty = false;
-  size_t end = 0;  // just after '>'
-  const std::string* attr(const char* key) const {
-    for (const auto& [k, v] : attrs)
-      if (k == key) return &v;
-    return nullptr;
-  }
-};
-
-// The next element tag at or after `pos` (skipping text, <?...?> and <!--...-->); false at the
-// end of the document.
-bool next_tag(const std::string& s, size_t pos, Tag* tag) {
-  for (;;) {
-    pos = s.find('<', pos);
-    if (pos == std::string::npos) return false;
-    if (s.compare(pos, 2, "<?") == 0 || s.compare(pos, 4, "<!--") == 0) {
-      const bool pi = s[pos + 1] == '?';
-      const size_t e = s.find(pi ? "?>" : "-->", pos);
-      if (e == std::string::npos) fail(pi ? "unterminated <?" : "unterminated comment");
-      pos = e + (pi ? 2 : 3);
-      continue;
-    }
-    break;
-  }
-  *tag = Tag();
-  size_t i = pos + 1;
-  if (i < s.size() && s[i] == '/') tag->closing = true, ++i;
-  auto is_name = [](char c) {
-    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == ':' || c == '-' ||
-           c == '.';
-  };
-  const size_t name_start = i;
-  while (i < s.size() && is_name(s[i])) ++i;
-  tag->name = s.substr(name_start, i - name_start);
-  if (tag->name.empty()) fail("malformed tag at offset " + std::to_string(pos));
-  for (;;) {
-    while (i < s.size() && std::isspace(static_cast<unsigned char>(s[i]))) ++i;
-    if (i >= s.size()) fail("unterminated <" + tag->name + "> tag");
-    if (s[i] == '>') {
-      tag->end = i + 1;
-      return true;
-    }
-    if (s.compare(i, 2, "/>") == 0) {
-      tag->empty = true;
-      tag->end = i + 2;
-      return true;
-    }
-    const size_t key_start = i;
-    while (i < s.size() && is_name(s[i])) ++i;
-    const std::string key = s.substr(key_start, i - key_start);
-    while (i < s.size() && std::isspace(static_cast<unsigned char>(s[i]))) ++i;
-    if (key.empty() || i + 1 >= s.size() || s[i] != '=')
-      fail("malformed attribute in <" + tag->name + ">");
-    ++i;
-    while (i < s.size() && std::isspace(static_cast<unsigned char>(s[i]))) ++i;
-    if (i >= s.size() || (s[i] != '"' && s[i] != '\''))
-      fail("attribute " + key + " of <" + tag->name + "> is not quoted");
-    const size_t close = s.find(s[i], i + 1);
-    if (close == std::string::npos) fail("unterminated attribute " + key);
-    tag->attrs.emplace_back(key, xml_unescape(s.substr(i + 1, close - i - 1)));
-    i = close + 1;
-  }
-}
-
-// A count attribute's value; `what` names it in the error.
-size_t count_attribute(const std::string& text, const std::string& what) {
-  size_t n = 0;
-  if (!parse_count(text, &n)) fail(what + " \"" + text + "\" is not a count");
-  return n;
-}
-
-struct DataArray {
-  std::string parent;  // PointData, Points, Cells, CellData, FieldData
-  std::string name;
-  size_t components = 1;
-  const VtkType* type = nullptr;
-  std::vector<double> values;
-};
-
-// The values of a DataArray whose text is [p, end).
-std::vector<double> read_values(const DataArray& a, const std::string& format, size_t header_size,
-                                const char* p, const char* end) {
-  std::vector<double> v;
-  if (format == "ascii") {
-    std::string text(p, end);
-    const char* q = text.c_str();
-    for (;;) {
-      while (std::isspace(static_cast<unsigned char>(*q))) ++q;
-      if (!*q) break;
-      char* stop = nullptr;
-      v.push_back(std::strtod(q, &stop));
-      if (stop == q) fail("array '" + a.name + "': non-numeric ascii value");
-      q = stop;
-    }
-    return v;
-  }
-  if (format != "binary")
-    fail("array '" + a.name + "' has format \"" + format + "\" (binary and ascii are read)");
-  const std::string bytes = base64_decode(p, end, a.name);
-  if (bytes.size() < header_size) fail("array '" + a.name + "': truncated header");
-  const uint64_t count =
-      header_size == 8 ? load_le<uint64_t>(bytes.data()) : load_le<uint32_t>(bytes.data());
-  if (count > bytes.size() - header_size)
-    fail("array '" + a.name + "': truncated (its header says " + std::to_string(count) +
-         " bytes, it has " + std::to_string(bytes.size() - header_size) + ")");
-  const size_t size = number_size(a.type->number);
-  if (count % size != 0)
-    fail("array '" + a.name + "': " + std::to_string(count) + " bytes is not a whole number of " +
-         a.type->name + " values");
-  v.resize(count / size);
-  const char* q = bytes.data() + header_size;
-  for (size_t i = 0; i < v.size(); ++i, q += size) v[i] = load_le_number(a.type->number, q);
-  return v;
-}
-
-void write_array(std::string* out, const char* indent, const std::string& name, const char* type,
-                 size_t components, const std::string& raw) {
-  *out += indent;
-  *out += "<DataArray type=\"" + std::string(type) + "\" Name=\"" + xml_escape(name) + "\"";
-  if (components != 1) *out += " NumberOfComponents=\"" + std::to_string(components) + "\"";
-  *out += " format=\"binary\">";
-  std::string block;
-  append_le<uint64_t>(&block, raw.size());
-  *out += base64_encode(block + raw);
-  *out += "</DataArray>\n";
-}
-
-// The raw little-endian values of a grouped attribute, component-interleaved.
-std::string attribute_bytes(const PointAttribute& a, size_t n) {
-  std::string raw;
-  raw.reserve(n * a.components.size() * 8);
-  for (size_t i = 0; i < n; ++i)
-    for (const std::vector<double>* c : a.components) {
-      const double v = c ? (*c)[i] : 0.0;
-      if (a.integer)
-        append_le(&raw, int32_t(v));
-      else if (a.float64)
-        append_le(&raw, v);
-      else
-        append_le(&raw, float(v));
-    }
-  return raw;
-}
-
-const char* type_name(const PointAttribute& a) {
-  return a.integer ? "Int32" : a.float64 ? "Float64" : "Float32";
-}
-
-}  // namespace
 
 std::string encode_vtu(const PointTable& t) {
   const std::vector<PointAttribute> attrs = group_columns(t, AttributeFormat::Vtu);
@@ -295,21 +21,14 @@ std::string encode_vtu(const PointTable& t) {
   if (points == attrs.end())
     throw std::runtime_error("VTU needs the position columns x, y (and z)");
   const size_t n = t.count;
-  const std::string count = std::to_string(n);
-  std::string out =
-      "<?xml version=\"1.0\"?>\n"
-      "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
-      "header_type=\"UInt64\">\n"
-      "  <UnstructuredGrid>\n"
-      "    <Piece NumberOfPoints=\"" +
-      count + "\" NumberOfCells=\"" + count + "\">\n      <PointData>\n";
+  std::string out = vtk_grid_begin(n, n) + "      <PointData>\n";
   for (const PointAttribute& a : attrs)
     if (!a.position)
-      write_array(&out, "        ", a.name, type_name(a), a.components.size(),
-                  attribute_bytes(a, n));
+      write_vtk_array(&out, "        ", a.name, vtk_type_name(a), a.components.size(),
+                  vtk_attribute_bytes(a, n));
   out += "      </PointData>\n      <Points>\n";
-  write_array(&out, "        ", "Points", type_name(*points), 3, attribute_bytes(*points, n));
-  out += "      </Points>\n      <Cells>\n";
+  write_vtk_array(&out, "        ", "Points", vtk_type_name(*points), 3, vtk_attribute_bytes(*points, n));
+  out += "      </Points>\n";
   std::string connectivity, offsets, types(n, '\x01');  // VTK_VERTEX
   connectivity.reserve(8 * n);
   offsets.reserve(8 * n);
@@ -317,136 +36,29 @@ std::string encode_vtu(const PointTable& t) {
     append_le<int64_t>(&connectivity, int64_t(i));
     append_le<int64_t>(&offsets, int64_t(i + 1));
   }
-  write_array(&out, "        ", "connectivity", "Int64", 1, connectivity);
-  write_array(&out, "        ", "offsets", "Int64", 1, offsets);
-  write_array(&out, "        ", "types", "UInt8", 1, types);
-  out +=
-      "      </Cells>\n"
-      "    </Piece>\n"
-      "  </UnstructuredGrid>\n"
-      "</VTKFile>\n";
+  write_vtk_cells_and_end(&out, connectivity, offsets, types);
   return out;
 }
 
 PointTable decode_vtu(const std::string& bytes) {
-  std::vector<std::string> open;  // the elements enclosing the current position
-  std::vector<DataArray> arrays;
-  size_t header_size = 4;  // VTK's default header_type is UInt32
-  size_t points = 0;
-  int pieces = 0;
-  bool root = false;
-  Tag tag;
-  size_t pos = 0;
-  while (next_tag(bytes, pos, &tag)) {
-    pos = tag.end;
-    if (tag.closing) {
-      if (open.empty() || open.back() != tag.name)
-        fail("</" + tag.name + "> does not close " +
-             (open.empty() ? std::string("any element") : "<" + open.back() + ">"));
-      open.pop_back();
-      continue;
-    }
-    if (open.empty() && root) fail("a second root element <" + tag.name + ">");
-    if (tag.name == "VTKFile") {
-      if (!open.empty()) fail("<VTKFile> inside <" + open.back() + ">");
-      root = true;
-      const std::string* type = tag.attr("type");
-      if (!type || *type != "UnstructuredGrid")
-        fail("not an unstructured grid (VTKFile type \"" + (type ? *type : "") + "\")");
-      const std::string* order = tag.attr("byte_order");
-      if (order && *order != "LittleEndian")
-        fail("byte_order \"" + *order + "\" (only LittleEndian is read)");
-      if (const std::string* h = tag.attr("header_type")) {
-        if (*h == "UInt64")
-          header_size = 8;
-        else if (*h != "UInt32")
-          fail("header_type \"" + *h + "\" (UInt32 and UInt64 are read)");
-      }
-      if (tag.attr("compressor")) fail("compressed data (not read; save without compression)");
-    } else if (!root) {
-      fail("the root element is <" + tag.name + ">, not <VTKFile>");
-    } else if (tag.name == "Piece") {
-      if (++pieces > 1) fail("more than one Piece (not read)");
-      const std::string* np = tag.attr("NumberOfPoints");
-      if (!np) fail("Piece without NumberOfPoints");
-      points = count_attribute(*np, "NumberOfPoints");
-    } else if (tag.name == "AppendedData") {
-      fail("appended data (not read; save with inline binary or ascii data)");
-    } else if (tag.name == "DataArray") {
-      if (open.empty()) fail("<DataArray> outside any element");
-      DataArray a;
-      a.parent = open.back();
-      const std::string* name = tag.attr("Name");
-      a.name = name ? *name : "";
-      const std::string* type = tag.attr("type");
-      if (!type) fail("array '" + a.name + "' has no type");
-      a.type = find_type(*type);
-      if (!a.type) fail("array '" + a.name + "' has unknown type \"" + *type + "\"");
-      if (const std::string* c = tag.attr("NumberOfComponents"))
-        a.components = count_attribute(*c, "NumberOfComponents of '" + a.name + "'");
-      if (a.components == 0) fail("array '" + a.name + "' has 0 components");
-      if (a.components > kMaxColumns)
-        fail("array '" + a.name + "' has " + std::to_string(a.components) +
-             " components (at most " + std::to_string(kMaxColumns) + ")");
-      if (tag.attr("offset")) fail("array '" + a.name + "' refers to appended data (not read)");
-      const std::string* format = tag.attr("format");
-      if (!format) fail("array '" + a.name + "' has no format");
-      if (!tag.empty) {
-        const size_t close = bytes.find('<', pos);
-        if (close == std::string::npos || bytes.compare(close, 12, "</DataArray>") != 0)
-          fail("array '" + a.name + "' is not closed by </DataArray>");
-        if (a.parent == "PointData" || a.parent == "Points")
-          a.values = read_values(a, *format, header_size, bytes.data() + pos, bytes.data() + close);
-        pos = close + 12;
-      }
-      arrays.push_back(std::move(a));
-      continue;  // closed (or empty): nothing to push on `open`
-    }
-    if (!tag.empty) open.push_back(tag.name);
-  }
-  if (!root) fail("no <VTKFile> element");
-  if (!open.empty()) fail("truncated: <" + open.back() + "> is not closed");
-  if (pieces == 0) fail("no Piece");
-
+  const VtkPiece piece = read_vtk_piece(
+      bytes, [](const std::string& parent) { return parent == "PointData" || parent == "Points"; });
   PointTable t;
-  t.count = points;
+  t.count = piece.points;
   ColumnNames columns;
-  std::string why;
-  auto add = [&](const DataArray& a) {
-    // Divided, not multiplied: points x components can wrap around.
-    if (a.values.size() % a.components != 0 || a.values.size() / a.components != points)
-      fail("array '" + a.name + "' has " + std::to_string(a.values.size()) + " values, expected " +
-           std::to_string(points) + " points x " + std::to_string(a.components));
-    // Checked before making the names: a long name of many components would make many long ones.
-    if (a.name.size() > kMaxColumnName)
-      fail("an array name of " + std::to_string(a.name.size()) + " bytes (at most " +
-           std::to_string(kMaxColumnName) + ")");
-    if (t.names.size() + a.components > kMaxColumns)
-      fail("array '" + a.name + "' of " + std::to_string(a.components) +
-           " components makes more than " + std::to_string(kMaxColumns) + " columns");
-    const std::vector<std::string> cols =
-        attribute_columns(a.name, int(a.components), AttributeFormat::Vtu);
-    for (size_t k = 0; k < cols.size(); ++k) {
-      if (!columns.add(cols[k], &why)) fail("array '" + a.name + "' gives " + why);
-      std::vector<double> c(points);
-      for (size_t i = 0; i < points; ++i) c[i] = a.values[i * a.components + k];
-      t.names.push_back(cols[k]);
-      t.types.push_back(exact_column_type(a.type->number));
-      t.columns.push_back(std::move(c));
-    }
-  };
-  const auto p = std::find_if(arrays.begin(), arrays.end(),
-                              [](const DataArray& a) { return a.parent == "Points"; });
-  if (p == arrays.end()) fail("no <Points> array");
+  const auto p = std::find_if(piece.arrays.begin(), piece.arrays.end(),
+                              [](const VtkArray& a) { return a.parent == "Points"; });
+  if (p == piece.arrays.end()) throw std::runtime_error("bad VTU: no <Points> array");
   if (p->components != 3)
-    fail("the Points array has " + std::to_string(p->components) + " components, not 3");
-  DataArray position = *p;
+    throw std::runtime_error("bad VTU: the Points array has " + std::to_string(p->components) +
+                             " components, not 3");
+  VtkArray position = *p;
   position.name = "Points";  // whatever its Name, it is the position
-  add(position);
-  for (const DataArray& a : arrays) {
+  add_vtk_columns(position, piece.points, "points", nullptr, &t, &columns);
+  for (const VtkArray& a : piece.arrays) {
     if (a.parent != "PointData") continue;
-    if (a.name.empty()) fail("a point array without a Name");
-    add(a);
+    if (a.name.empty()) throw std::runtime_error("bad VTU: a point array without a Name");
+    add_vtk_columns(a, piece.points, "points", nullptr, &t, &columns);
   }
   return t;
 }
