@@ -461,6 +461,7 @@ void append_fem_body(const FemMesh& mesh, const std::vector<MaterialParams>& mat
                 Mat<Dim>::Identity(), Real(0), Real(0), 0);
   }
   std::vector<bool> named(mesh.nodes.size(), false);
+  st->mass_damping.resize(p.size(), Real(0));
   FemElements<Dim>& el = st->elements;
   for (size_t e = 0; e < mesh.elements.size(); ++e) {
     typename FemElements<Dim>::Corners c;
@@ -480,7 +481,6 @@ void append_fem_body(const FemMesh& mesh, const std::vector<MaterialParams>& mat
     el.material.push_back(made.material);
     el.fiber.push_back(made.fiber);
     el.stiffness_damping.push_back(made.stiffness_damping);
-    st->mass_damping.resize(p.size(), Real(0));
     st->damped = st->damped || made.mass_damping > 0 || made.stiffness_damping > 0;
     for (uint32_t k : c) {
       const Real share = Real(materials[made.material].rho * volume / (Dim + 1));
