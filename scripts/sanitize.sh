@@ -65,8 +65,9 @@ subset_targets=()
 subset_regex=""
 if [[ $kind == address && $ci == 1 ]]; then
   subset_targets=(test_math test_exec test_geometry test_particles test_kernels test_io test_grid
-                  replay_ply replay_obj replay_stl replay_bgeo replay_vtu replay_frame_range)
-  subset_regex='^((AtomicFile|BSpline|Bgeo|Binary|BlockWindow|Cofactor|Collider|Exec|FieldIo|FieldRegistry|Frames|Memory|MeshIo|MeshSolid|Ply|PointGroups|Polar|Pvd|Qr|RoundShapes|ShapeSdf|SignedSvd|SparseGrid|Stencil|Vtu)\.|Fuzz\.replay_(ply|obj|stl|bgeo|vtu|frame_range)$)'
+                  replay_ply replay_obj replay_stl replay_bgeo replay_vtu replay_frame_range
+                  replay_gmsh replay_tetgen replay_volume_vtu)
+  subset_regex='^((AtomicFile|BSpline|Bgeo|Binary|BlockWindow|Cofactor|Collider|Exec|FieldIo|FieldRegistry|Frames|Gmsh|Memory|MeshIo|MeshSolid|Ply|PointGroups|Polar|Pvd|Qr|ReadVolumeMesh|RoundShapes|ShapeSdf|SignedSvd|SparseGrid|Stencil|Tetgen|Vtu|VolumeVtu)\.|Fuzz\.replay_(ply|obj|stl|bgeo|vtu|frame_range|gmsh|tetgen|volume_vtu)$)'
 elif [[ $kind == thread ]]; then
   subset_targets=(test_exec test_grid test_solvers test_mpm tear_cli test_cli)
   subset_regex='^(Exec\.|SparseGrid\.|Apic\.|Implicit\.Conserves|Determinism\.|Cli\.OutputIsBitIdentical|Stability|StepGuard|CrackFields\.SameBits|Implicit\.MultigridStepsGiveTheSameBits|ImplicitDamage\.SameBits|Inextensibility\.SameBits|Multigrid\.SameBits)'

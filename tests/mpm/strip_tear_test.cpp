@@ -136,6 +136,16 @@ nlohmann::json sharp_cracks(nlohmann::json doc, int seed, const std::string& sol
   return doc;
 }
 
+// A torn band at two frames that stays sharp: at most 4 spacings wide at the first and no more
+// than half a spacing wider at the second. Widths are medians of run lengths, in half spacings
+// (up to rounding); one half spacing is the metric's own step.
+void expect_sharp_band(const std::vector<CrackFigures>& c, const std::string& what) {
+  ASSERT_GT(c[1].fraction, 0.02) << what << ": the strip did not crack";
+  const auto halves = [](const CrackFigures& f) { return std::lround(2 * f.width_spacings); };
+  EXPECT_LE(halves(c[0]), 8) << what << ": " << c[0].width_spacings << " spacings";
+  EXPECT_LE(halves(c[1]), halves(c[0]) + 1) << what << ": the band widened";
+}
+
 TEST(StripTear, CrackFieldsWithAnisotropicSurfaceKeepSlidingCracksSharpAndOnTheFibers) {
   // The strip as the issue gives it (no notch), with crack fields (split_fields) and
   // surface_anisotropy 100 together: the crack surface steers the crack onto the fibers and the
@@ -147,32 +157,28 @@ TEST(StripTear, CrackFieldsWithAnisotropicSurfaceKeepSlidingCracksSharpAndOnTheF
   // at frames 15 / 20 (bands only: seeds 1 and 3 follow the fibers at 27-28 degrees, seed 2 starts
   // at a grip's edge and ends at 10.5): seed 2 2.5 / 2.5 spacings, -30 degrees seed 3 2.5 / 2.5
   // (at -28.2 degrees). Without both: 7-7.5 spacings and growing; 30 degrees at 0.
-  auto sharp = [](double degrees, int seed, const std::string& solver) {
-    return sharp_cracks(strip(degrees), seed, solver);
-  };
-  auto sharp_band = [](const std::vector<CrackFigures>& c, const std::string& what) {
-    ASSERT_GT(c[1].fraction, 0.02) << what << ": the strip did not crack";
-    // Widths are medians of run lengths, in half spacings (up to rounding); one half spacing
-    // is the metric's own step.
-    const auto halves = [](const CrackFigures& f) { return std::lround(2 * f.width_spacings); };
-    EXPECT_LE(halves(c[0]), 8) << what << ": " << c[0].width_spacings << " spacings";
-    EXPECT_LE(halves(c[1]), halves(c[0]) + 1) << what << ": the band widened";
-  };
   std::vector<CrackFigures> last;
-  for (const auto& [seed, solver] :
-       {std::pair<int, const char*>{1, "explicit"}, {1, "implicit"}, {2, "explicit"}}) {
-    const std::string what =
-        std::string("60 degrees, ") + solver + ", seed " + std::to_string(seed);
-    const std::vector<CrackFigures> c = tear_strip(sharp(60, seed, solver), {20, 30}, what);
-    sharp_band(c, what);
+  for (const char* solver : {"explicit", "implicit"}) {
+    const std::string what = std::string("60 degrees, ") + solver + ", seed 1";
+    const std::vector<CrackFigures> c = tear_strip(sharp_cracks(strip(60), 1, solver), {20, 30}, what);
+    expect_sharp_band(c, what);
     EXPECT_LT(angle_between(c[1].angle_degrees, 60), 10) << what;
     last.push_back(c[1]);
   }
   expect_solvers_agree(last[0], last[1], "60 degrees, seed 1");
-  sharp_band(tear_strip(sharp(30, 2, "explicit"), {15, 20}, "30 degrees, seed 2"),
-             "30 degrees, seed 2");
-  sharp_band(tear_strip(sharp(-30, 3, "explicit"), {15, 20}, "-30 degrees, seed 3"),
-             "-30 degrees, seed 3");
+  expect_sharp_band(tear_strip(sharp_cracks(strip(30), 2, "explicit"), {15, 20}, "30 degrees, seed 2"),
+                    "30 degrees, seed 2");
+}
+
+// The same with another seed at 60 degrees and mirrored fibers (-30 degrees, seed 3): two more
+// strip runs, left to the study (ctest -L study) for CI's time.
+TEST(StripTearStudy, CrackFieldsWithAnisotropicSurfaceKeepSlidingCracksSharpForOtherSeeds) {
+  const std::string what = "60 degrees, explicit, seed 2";
+  const std::vector<CrackFigures> c = tear_strip(sharp_cracks(strip(60), 2, "explicit"), {20, 30}, what);
+  expect_sharp_band(c, what);
+  EXPECT_LT(angle_between(c[1].angle_degrees, 60), 10) << what;
+  expect_sharp_band(tear_strip(sharp_cracks(strip(-30), 3, "explicit"), {15, 20}, "-30 degrees, seed 3"),
+                    "-30 degrees, seed 3");
 }
 
 TEST(StripTear, CrackFieldsWithAnisotropicSurfaceRunFromANotchAlongThirtyDegreeFibers) {
@@ -262,21 +268,31 @@ TEST(StripTear, AnisotropicCrackSurfaceSteersCracksOntoFibersIn3D) {
       << line_degrees(paper);
 }
 
+// The 60-degree slab without a notch torn with crack fields and surface_anisotropy 100 by one
+// damage solver: the crack runs along the fibers, its plane contains z, its band stays sharp.
+void expect_sharp_slab(const char* solver) {
+  const nlohmann::json doc = sharp_cracks(slab(60, false), 1, solver);
+  const std::vector<CrackFigures> c = tear<3>(parse_scene(doc, "slab.json"), {14, 16}, solver);
+  ASSERT_GT(c[1].fraction, 0.03) << solver << ": the slab did not crack";
+  EXPECT_LT(angle_between(line_degrees(c[1]), 60), 10) << solver << ": " << line_degrees(c[1]);
+  EXPECT_LT(std::abs(c[1].normal.z()), 0.1) << solver;
+  EXPECT_LE(c[0].width_spacings, 4) << solver;
+  EXPECT_LE(c[1].width_spacings, c[0].width_spacings + 0.5) << solver << ": the band widened";
+}
+
 TEST(StripTear, CrackFieldsWithAnisotropicSurfaceKeepSlidingCracksSharpIn3D) {
   // The slab without a notch, fibers at 60 degrees, crack fields and surface_anisotropy 100:
   // the crack runs along the fibers and its faces slide apart in a band that stops widening.
   // Measured at frames 14 / 16: explicit 61.9 degrees, 2.55 / 2.55 spacings, 8.2 / 8.5 %
   // cracked; implicit 59.8 degrees, 2.55 / 2.55, 9.2 / 9.6 %; |n_z| 0.08-0.09. The paper's (one
   // field, beta 0; `tear run` of the same scene): 40 degrees, 7.0 / 6.4 spacings, 24 / 28 %.
-  for (const char* solver : {"explicit", "implicit"}) {
-    const nlohmann::json doc = sharp_cracks(slab(60, false), 1, solver);
-    const std::vector<CrackFigures> c = tear<3>(parse_scene(doc, "slab.json"), {14, 16}, solver);
-    ASSERT_GT(c[1].fraction, 0.03) << solver << ": the slab did not crack";
-    EXPECT_LT(angle_between(line_degrees(c[1]), 60), 10) << solver << ": " << line_degrees(c[1]);
-    EXPECT_LT(std::abs(c[1].normal.z()), 0.1) << solver;
-    EXPECT_LE(c[0].width_spacings, 4) << solver;
-    EXPECT_LE(c[1].width_spacings, c[0].width_spacings + 0.5) << solver << ": the band widened";
-  }
+  expect_sharp_slab("explicit");
+}
+
+// The same slab with the implicit damage solver (the 2D strip tests compare the solvers in CI;
+// this 3D run is left to the study for CI's time).
+TEST(StripTearStudy, CrackFieldsWithAnisotropicSurfaceKeepSlidingCracksSharpIn3DImplicit) {
+  expect_sharp_slab("implicit");
 }
 
 TEST(StripTear, SolversAgreeWhenCracksGrowSlowly) {
