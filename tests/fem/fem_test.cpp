@@ -8,6 +8,7 @@
 #include "tear/io/mesh_frames.h"
 #include "tear/materials/registry.h"
 #include "tear/scene/scene.h"
+#include "fem_test_util.h"
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
@@ -20,39 +21,7 @@
 namespace tear {
 namespace {
 
-// A box [lo, hi] split into n cells per unit of `cells`, each cell into 6 tetrahedra (Kuhn) or
-// 2 triangles: a structured mesh that needs no mesher.
-FemMesh structured_box(int dim, const Vec3d& lo, const Vec3d& hi, const std::array<int, 3>& n) {
-  FemMesh m;
-  m.dim = dim;
-  const int nz = dim == 3 ? n[2] : 0;
-  const auto id = [&](int i, int j, int k) { return (k * (n[1] + 1) + j) * (n[0] + 1) + i; };
-  for (int k = 0; k <= nz; ++k)
-    for (int j = 0; j <= n[1]; ++j)
-      for (int i = 0; i <= n[0]; ++i) {
-        Vec3d x = lo;
-        x.x() += (hi.x() - lo.x()) * i / n[0];
-        x.y() += (hi.y() - lo.y()) * j / n[1];
-        if (dim == 3) x.z() += (hi.z() - lo.z()) * k / nz;
-        m.nodes.push_back(x);
-      }
-  for (int k = 0; k < std::max(nz, 1); ++k)
-    for (int j = 0; j < n[1]; ++j)
-      for (int i = 0; i < n[0]; ++i) {
-        if (dim == 2) {
-          m.elements.push_back({id(i, j, 0), id(i + 1, j, 0), id(i + 1, j + 1, 0), -1});
-          m.elements.push_back({id(i, j, 0), id(i + 1, j + 1, 0), id(i, j + 1, 0), -1});
-          continue;
-        }
-        // The six tetrahedra around the diagonal from corner 0 to corner 7.
-        int c[8];
-        for (int b = 0; b < 8; ++b) c[b] = id(i + (b & 1), j + ((b >> 1) & 1), k + ((b >> 2) & 1));
-        const int paths[6][2] = {{1, 3}, {1, 5}, {2, 3}, {2, 6}, {4, 5}, {4, 6}};
-        for (const auto& p : paths) m.elements.push_back({c[0], c[p[0]], c[p[0] | p[1]], c[7]});
-      }
-  orient_elements(&m);
-  return m;
-}
+using test::structured_box;
 
 MpmSettings settings_of(Model model, double E, double nu, double rho, int dim) {
   MpmSettings s;
@@ -228,11 +197,12 @@ TEST(FemDynamics, HangingBarStretchesByRhoGLSquaredOverTwoE) {
   }
 }
 
-// A 2D bar of length 1 (40 x 2 cells) clamped at x = 0 by a sticky box (added to s's colliders),
+// A 2D bar of length 1 (40 x 2 cells unless told) clamped at x = 0 by a sticky box (added to s's colliders),
 // its elements made with `setup`, moving with a small velocity that grows along it (mostly its
 // first axial mode).
-FemState<2> clamped_bar(MpmSettings* s, const ElementSetup<2>& setup = {}) {
-  const FemMesh mesh = structured_box(2, Vec3d::Zero(), Vec3d(1, 0.05, 0), {40, 2, 1});
+FemState<2> clamped_bar(MpmSettings* s, const ElementSetup<2>& setup = {}, int cells = 40,
+                        int rows = 2) {
+  const FemMesh mesh = structured_box(2, Vec3d::Zero(), Vec3d(1, 0.05, 0), {cells, rows, 1});
   FemState<2> st;
   append_fem_body<2>(mesh, s->materials, [&](const Vec3d&, size_t) { return setup; },
                      Vec3d::Zero(), Vec3d::Zero(), Vec3d::Zero(), &st);
@@ -248,6 +218,30 @@ FemState<2> clamped_bar(MpmSettings* s, const ElementSetup<2>& setup = {}) {
   return st;
 }
 
+// The period of the bar's free end's axial velocity (from its sign changes), stepping by
+// `dt` (0: the explicit limit) until `t_end`.
+double tip_period(const MpmSettings& s, FemState<2>* st, double dt, double t_end) {
+  std::vector<size_t> tip;
+  for (size_t i = 0; i < st->num_nodes(); ++i)
+    if (st->nodes.x[i].x() > 1 - 1e-9) tip.push_back(i);
+  const auto tip_v = [&] {
+    double v = 0;
+    for (size_t i : tip) v += double(st->nodes.v[i].x());
+    return v;
+  };
+  std::vector<double> crossings;
+  double prev = tip_v();
+  while (st->time < t_end) {
+    const double h = dt > 0 ? dt : fem_dt_limits(s, *st).dt();
+    fem_step(s, st, h, nullptr);
+    const double v = tip_v();
+    if ((prev > 0) != (v > 0)) crossings.push_back(st->time - h * v / (v - prev));
+    prev = v;
+  }
+  if (crossings.size() < 6) return 0;
+  return (crossings[5] - crossings[1]) / 2;
+}
+
 // A bar fixed at one end vibrates along its axis at f = c / (4 L), c = sqrt(E / rho) (2D strip,
 // nu = 0). Explicit steps; the period from the free end's velocity changing sign.
 TEST(FemDynamics, BarVibratesAlongItsAxisAtCOverFourL) {
@@ -256,27 +250,77 @@ TEST(FemDynamics, BarVibratesAlongItsAxisAtCOverFourL) {
   s.max_dt = 1;
   const double L = 1;
   FemState<2> st = clamped_bar(&s);
-  std::vector<size_t> tip;
-  for (size_t i = 0; i < st.num_nodes(); ++i)
-    if (st.nodes.x[i].x() > L - 1e-9) tip.push_back(i);
-  const auto tip_v = [&] {
-    double v = 0;
-    for (size_t i : tip) v += double(st.nodes.v[i].x());
-    return v;
-  };
-  std::vector<double> crossings;
-  double prev = tip_v();
-  while (st.time < 0.2) {
-    const double dt = fem_dt_limits(s, st).dt();
-    fem_step(s, &st, dt, nullptr);
-    const double v = tip_v();
-    if ((prev > 0) != (v > 0)) crossings.push_back(st.time - dt * v / (v - prev));
-    prev = v;
-  }
-  ASSERT_GE(crossings.size(), 6u);
-  const double period = 2 * (crossings[5] - crossings[1]) / 4;
+  const double period = tip_period(s, &st, 0, 0.2);
   const double expected = 4 * L / std::sqrt(1e4 / 1.0);
   EXPECT_NEAR(period, expected, 0.01 * expected);
+}
+
+// On a coarse bar (4 elements along) the first axial mode is the chain's discrete one, u_j =
+// sin(j theta), theta = pi / 2N (the start's velocity), at omega h / c = 2 sin(theta / 2) with
+// lumped mass (0.64 % under pi c / 2L) and sqrt(6 (1 - cos theta) / (2 + cos theta)) with
+// consistent mass (0.64 % over): backward Euler with short steps (omega dt = 0.01) gives each
+// within 0.15 %.
+TEST(FemDynamics, ConsistentMassRaisesTheCoarseBarsFrequencyAsTheoryPredicts) {
+  const double c = 100, N = 4, h = 1 / N, theta = M_PI / (2 * N);
+  for (bool consistent : {false, true}) {
+    SCOPED_TRACE(consistent ? "consistent" : "lumped");
+    MpmSettings s = settings_of(Model::FixedCorotated, c * c, 0, 1, 2);
+    s.integrator = Integrator::Implicit;
+    s.newton.tolerance = 1e-10;
+    ElementSetup<2> setup;
+    setup.consistent_mass = consistent;
+    FemState<2> st = clamped_bar(&s, setup, int(N), 1);
+    const double omega = consistent
+                             ? c / h * std::sqrt(6 * (1 - std::cos(theta)) / (2 + std::cos(theta)))
+                             : c / h * 2 * std::sin(theta / 2);
+    const double period = tip_period(s, &st, 0.01 / omega, 3.2 * 2 * M_PI / omega);
+    EXPECT_NEAR(period, 2 * M_PI / omega, 1.5e-3 * 2 * M_PI / omega);
+    const double exact = 4 / c;  // 4L / c
+    if (consistent)
+      EXPECT_LT(period, 0.995 * exact);
+    else
+      EXPECT_GT(period, 1.005 * exact);
+  }
+  // The explicit integrator takes lumped mass only.
+  MpmSettings s = settings_of(Model::FixedCorotated, c * c, 0, 1, 2);
+  ElementSetup<2> setup;
+  setup.consistent_mass = true;
+  FemState<2> st = clamped_bar(&s, setup, 4, 1);
+  EXPECT_THROW(fem_step(s, &st, 1e-4, nullptr), std::invalid_argument);
+}
+
+// A block sliding on a floor with Coulomb friction mu slows at mu g: its centre of mass's speed
+// after t is v0 - mu g t (explicit and implicit, 2D), and on a slip floor it keeps v0.
+TEST(FemDynamics, BlockSlidingOnAFrictionFloorSlowsAtMuG) {
+  const double v0 = 2, mu = 0.3, g = 9.81, t_end = 0.3;
+  for (const Integrator integrator : {Integrator::Explicit, Integrator::Implicit})
+    for (const double friction : {mu, 0.0}) {
+      SCOPED_TRACE(std::string(integrator == Integrator::Explicit ? "explicit" : "implicit") +
+                   " mu " + std::to_string(friction));
+      MpmSettings s = settings_of(Model::FixedCorotated, 1e5, 0.3, 1000, 2);
+      s.integrator = integrator;
+      s.gravity = Vec3d(0, -g, 0);
+      s.max_dt = 1e-3;
+      const FemMesh mesh = structured_box(2, Vec3d(0, 0, 0), Vec3d(0.2, 0.1, 0), {4, 2, 1});
+      FemState<2> st;
+      append_fem_body<2>(
+          mesh, s.materials, [&](const Vec3d&, size_t) { return ElementSetup<2>{}; },
+          Vec3d(v0, 0, 0), Vec3d::Zero(), Vec3d::Zero(), &st);
+      Collider floor;
+      floor.type = ContactType::Separate;
+      floor.friction = friction;
+      floor.shape.type = Shape::Type::HalfSpace;
+      floor.shape.dim = 2;
+      floor.shape.point = Vec3d(0, 1e-4, 0);
+      floor.shape.normal = Vec3d(0, 1, 0);
+      s.colliders = {floor};
+      while (st.time < t_end - 1e-12)
+        fem_step(s, &st, std::min(fem_dt_limits(s, st).dt(), t_end - st.time), nullptr);
+      const FemFigures f = measure_fem(s, st);
+      const double v = f.momentum.x() / f.mass;
+      EXPECT_NEAR(v, v0 - friction * g * t_end, 0.02 * v0);
+      EXPECT_NEAR(f.momentum.y() / f.mass, 0, 0.02);  // resting on the floor
+    }
 }
 
 // Rayleigh damping -(alpha M + beta K) v damps the bar's first axial mode (omega = pi c / 2L) at
@@ -484,6 +528,13 @@ TEST(FemScene, MixedAndUnsupportedScenesAreRefused) {
             std::string::npos);
   EXPECT_NE(error(R"({"material": "m", "mesh_size": 0.1, "shape": {"type": "box", "min": [0.2, 0.2], "max": [0.4, 0.4]}})")
                 .find("objects[0].mesh_size: is for \"simulation\": \"fem\" objects only"),
+            std::string::npos);
+  // Consistent mass: FEM bodies and the implicit integrator only.
+  EXPECT_NE(error(R"({"simulation": "fem", "mass": "consistent", "material": "m", "shape": {"type": "box", "min": [0.2, 0.2], "max": [0.4, 0.4]}})")
+                .find("objects[0].mass: \"consistent\" needs \"integrator\": \"implicit\""),
+            std::string::npos);
+  EXPECT_NE(error(R"({"material": "m", "mass": "lumped", "shape": {"type": "box", "min": [0.2, 0.2], "max": [0.4, 0.4]}})")
+                .find("objects[0].mass: is for \"simulation\": \"fem\" objects only"),
             std::string::npos);
   // Rayleigh damping: FEM bodies only, non-negative.
   const auto damped = [&](const std::string& rayleigh, const std::string& objects) {

@@ -121,8 +121,9 @@ TEST(MeshObjects, ErrorsNameTheSceneTheKeyAndTheMesh) {
             0u);
   EXPECT_EQ(mesh_error(cube, "cube.off"),
             key + "'" + mesh + "cube.off': unknown mesh format '.off' (expected .obj, .ply or .stl)");
-  EXPECT_EQ(mesh_error(cube, "ok.obj", 2),
-            scene + ": objects[0].shape.type: \"mesh\" needs a 3D scene (dim 3)");
+  EXPECT_EQ(mesh_error(cube, "ok.obj", 2).rfind(
+                scene + ": objects[0].shape.file: a 2D scene's \"mesh\" is a triangle mesh file", 0),
+            0u);
 }
 
 TEST(MeshObjects, MissingFileIsNamed) {

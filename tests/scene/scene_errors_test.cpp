@@ -384,9 +384,9 @@ std::vector<BrokenScene> broken_scenes() {
       patched("FibersFromFileHasNoFileKey",
               sphere_object(R"(, "fibers": {"type": "from_file", "file": "f.ply"})"),
               "objects[0].fibers.file: unknown key"),
-      // mesh shapes are 3D only (the rest of their errors: mesh_object_test.cpp)
+      // surface mesh shapes are 3D only (the rest of their errors: mesh_object_test.cpp)
       patched("MeshShapeIn2D", shape_object(R"({"type": "mesh", "file": "bunny.obj"})"),
-              "objects[0].shape.type: \"mesh\" needs a 3D scene (dim 3)"),
+              "objects[0].shape.file: a 2D scene's \"mesh\" is a triangle mesh file"),
       // plasticity's keys, per yield surface
       patched("PlasticityNotAnObject", R"({"materials": {"jelly": {"plasticity": 3}}})",
               "materials.jelly.plasticity: must be null or an object, got an integer (3)"),

@@ -18,8 +18,10 @@ namespace tear {
 namespace {
 
 // Checkpoint format: this magic (its digit is the format's version), the header below, the
-// nodes' state fields (io/field_io.h), a 64-bit checksum of everything before it.
-const std::string kFemCheckpointMagic = "TEARFEM1";
+// nodes' state fields (io/field_io.h), a byte saying whether the elements' plastic state
+// follows (every element's rest_inverse and plastic strain and volume, when a material is
+// plastic), a 64-bit checksum of everything before it.
+const std::string kFemCheckpointMagic = "TEARFEM2";
 
 uint64_t mix(uint64_t x) {
   x += 0x9E3779B97F4A7C15ull;
@@ -40,13 +42,17 @@ class FemSimulation final : public Simulation {
       const ObjectSpec& o = scene.objects[k];
       const std::string name = scene.file + ": objects[" + std::to_string(k) + "]";
       FemMesh mesh;
-      try {
-        mesh = mesh_shape(o.shape, Dim, o.mesh_size);
-      } catch (const std::exception& e) {
-        throw std::runtime_error(name + ": meshing the shape at mesh_size " +
-                                 std::to_string(o.mesh_size) + ": " + e.what());
+      if (o.fem_mesh) {
+        mesh = *o.fem_mesh;  // a volume mesh file's, checked by the scene
+      } else {
+        try {
+          mesh = mesh_shape(o.shape, Dim, o.mesh_size);
+        } catch (const std::exception& e) {
+          throw std::runtime_error(name + ": meshing the shape at mesh_size " +
+                                   std::to_string(o.mesh_size) + ": " + e.what());
+        }
+        check_fem_mesh(mesh, name + " (its mesh)");
       }
-      check_fem_mesh(mesh, name + " (its mesh)");
       figures_.push_back(mesh_figures(mesh));
       const uint64_t key = mix(scene.seed ^ mix(k + 1));
       const auto setup = [&](const Vec3d& c, size_t e) {
@@ -62,6 +68,7 @@ class FemSimulation final : public Simulation {
         const MaterialSpec& m = scene.materials[made.material];
         made.mass_damping = Real(m.rayleigh_alpha);
         made.stiffness_damping = Real(m.rayleigh_beta);
+        made.consistent_mass = o.consistent_mass;
         return made;
       };
       append_fem_body<Dim>(mesh, settings_.materials, setup, o.velocity, o.angular_velocity,
@@ -147,7 +154,8 @@ class FemSimulation final : public Simulation {
     return table_;
   }
 
-  // The element figures as columns: id, material, energy (density), von_mises, J, fx fy fz.
+  // The element figures as columns: id, material, energy (density), von_mises, J, fx fy fz, and
+  // plastic_strain where a material is plastic.
   void add_element_columns(PointTable* t) const {
     const FemElements<Dim>& el = state_.elements;
     const FemElementFigures f = fem_element_figures(settings_, state_);
@@ -166,6 +174,7 @@ class FemSimulation final : public Simulation {
     t->add("fx", ColumnType::Float32, fiber[0]);
     t->add("fy", ColumnType::Float32, fiber[1]);
     t->add("fz", ColumnType::Float32, fiber[2]);
+    if (fem_plastic(settings_)) t->add("plastic_strain", ColumnType::Float32, f.plastic_strain);
   }
 
   // "fem": the bodies' boundary triangles in 3D, their element triangles in 2D (the filled body,
@@ -248,6 +257,27 @@ class FemSimulation final : public Simulation {
     Particles<Dim> store(GroupKind::MeshVertices);
     store.enable_like(state_.nodes);
     get_fields(&r, size_t(nodes), &store);
+    const bool plastic = r.get<uint8_t>() != 0;
+    if (plastic != fem_plastic(settings_))
+      throw std::runtime_error(plastic ? "checkpoint holds plastic elements; the scene's materials "
+                                         "are elastic"
+                                       : "checkpoint holds no plastic state; the scene has a "
+                                         "plastic material");
+    std::vector<Mat<Dim>> rest;
+    std::vector<PlasticState> flow;
+    if (plastic) {
+      rest.resize(size_t(elements));
+      flow.resize(size_t(elements));
+      for (size_t e = 0; e < rest.size(); ++e) {
+        for (int k = 0; k < Dim * Dim; ++k) rest[e].data()[k] = r.get<Real>();
+        flow[e].strain = r.get<Real>();
+        flow[e].volume = r.get<Real>();
+        if (!rest[e].allFinite() || !std::isfinite(flow[e].strain) ||
+            !std::isfinite(flow[e].volume))
+          throw std::runtime_error("corrupt checkpoint (element " + std::to_string(e) +
+                                   "'s plastic state is not finite)");
+      }
+    }
     if (!r.at_end()) throw std::runtime_error("corrupt checkpoint (trailing bytes)");
     for (size_t i = 0; i < store.size(); ++i)
       if (store.id[i] != i)
@@ -258,6 +288,10 @@ class FemSimulation final : public Simulation {
       const std::string why = "corrupt checkpoint (" + describe(size_t(bad), true) + ")";
       std::swap(state_.nodes, store);
       throw std::runtime_error(why);
+    }
+    if (plastic) {
+      state_.elements.rest_inverse = std::move(rest);
+      state_.elements.plastic = std::move(flow);
     }
     state_.time = time;
     state_.steps = steps;
@@ -326,6 +360,15 @@ class FemSimulation final : public Simulation {
     w.put<double>(solve_.residual_max);
     w.put<int64_t>(solve_.unconverged);
     put_fields(state_.nodes, &w, compact);
+    const bool plastic = fem_plastic(settings_);
+    w.put<uint8_t>(plastic ? 1 : 0);
+    if (plastic)
+      for (size_t e = 0; e < state_.elements.size(); ++e) {
+        const Mat<Dim>& B = state_.elements.rest_inverse[e];
+        for (int k = 0; k < Dim * Dim; ++k) w.put<Real>(B.data()[k]);
+        w.put<Real>(state_.elements.plastic[e].strain);
+        w.put<Real>(state_.elements.plastic[e].volume);
+      }
     put_checksum(&w);
     return w;
   }

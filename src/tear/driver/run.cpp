@@ -581,8 +581,12 @@ int check_scene(const std::string& scene_path, const std::vector<std::string>& o
         const std::vector<MeshFigures> meshes = sim->body_meshes();
         const MeshFigures& f = meshes.at(i);
         out << ", FEM mesh of " << f.nodes << " nodes, " << f.elements
-            << (s.dim == 2 ? " triangles" : " tetrahedra") << " (mesh_size " << ob.mesh_size
-            << ", mean edge " << f.mean_edge << "), worst quality " << f.worst_quality
+            << (s.dim == 2 ? " triangles" : " tetrahedra");
+        if (ob.fem_mesh)
+          out << " (read from its file, mean edge " << f.mean_edge << ")";
+        else
+          out << " (mesh_size " << ob.mesh_size << ", mean edge " << f.mean_edge << ")";
+        out << ", worst quality " << f.worst_quality
             << " (element " << f.worst_element << "), smallest height " << f.smallest_height
             << "\n";
         continue;

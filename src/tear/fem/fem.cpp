@@ -198,8 +198,44 @@ class FemAssembly {
 
 namespace {
 
+// The consistent mass's difference from the lumped one, C = sum over elements of
+// c (1 - (Dim + 1) delta_ab) I (FemElements::mass_coupling): u^T C u / 2 for the nodes'
+// vectors u(i), and C u. Per element c (|sum_a u_a|^2 - (Dim + 1) sum_a |u_a|^2) / 2 and
+// c (sum_b u_b - (Dim + 1) u_a) at corner a, gathered in element order.
+template <int Dim, class U>
+double consistent_mass_energy(const FemState<Dim>& st, U&& u) {
+  const FemElements<Dim>& el = st.elements;
+  return deterministic_sum<double>(el.size(), [&](size_t e) {
+    const double c = double(el.mass_coupling[e]);
+    if (c == 0) return 0.0;
+    Vec<Dim> sum = Vec<Dim>::Zero();
+    double squares = 0;
+    for (uint32_t k : el.corners[e]) {
+      const Vec<Dim> uk = u(k);
+      sum += uk;
+      squares += double(uk.squaredNorm());
+    }
+    return 0.5 * c * (double(sum.squaredNorm()) - (Dim + 1) * squares);
+  });
+}
+
+template <int Dim, class U>
+void consistent_mass_times(const FemState<Dim>& st, U&& u, std::vector<Vec<Dim>>* out) {
+  const FemElements<Dim>& el = st.elements;
+  std::vector<Vec<Dim>> corner(el.size() * (Dim + 1));
+  parallel_for(el.size(), [&](size_t e) {
+    const Real c = el.mass_coupling[e];
+    Vec<Dim> sum = Vec<Dim>::Zero();
+    for (uint32_t k : el.corners[e]) sum += u(k);
+    for (int a = 0; a <= Dim; ++a)
+      corner[e * (Dim + 1) + size_t(a)] = c * (sum - Real(Dim + 1) * u(el.corners[e][size_t(a)]));
+  });
+  gather_corners(st, corner, out);
+}
+
 // The incremental potential of one backward Euler step over the node velocities v (Dim per
-// node): sum_i m_i / 2 |v_i - v*_i|^2 + E(x^n + dt v), with v* = v^n + dt g after contact, and
+// node): sum_i m_i / 2 |v_i - v*_i|^2 (+ (v - v*)^T C (v - v*) / 2 for consistent mass) +
+// E(x^n + dt v), with v* = v^n + dt g after contact, and
 // each node's velocity held in the directions its boundaries fix (free_directions_at).
 // solvers/newton.h's problem; the "preconditioner" is the exact factor (direct) or the diagonal.
 template <int Dim>
@@ -255,16 +291,28 @@ class FemPotential {
       const Eigen::Map<const Eigen::VectorXd> vv(v.data(), Eigen::Index(v.size()));
       damping = 0.5 * double(dt_) * vv.dot(damping_matrix() * vv);
     }
-    return kinetic + fem_elastic_energy(s_, st_, x_) + damping;
+    double consistent = 0;
+    if (st_.consistent) {
+      const auto dv = [&](size_t i) {
+        return Vec<Dim>(Eigen::Map<const Vec<Dim>>(&v[i * Dim]) - v_star_[i]);
+      };
+      consistent = consistent_mass_energy(st_, dv);
+    }
+    return kinetic + consistent + fem_elastic_energy(s_, st_, x_) + damping;
   }
 
   void gradient(const std::vector<Real>& v, std::vector<Real>& g) {
     positions(v);
     fem_elastic_gradient(s_, st_, x_, &grad_);
+    if (st_.consistent)
+      consistent_mass_times(
+          st_, [&](size_t i) { return Vec<Dim>(Eigen::Map<const Vec<Dim>>(&v[i * Dim]) - v_star_[i]); },
+          &mass_times_);
     const Particles<Dim>& p = st_.nodes;
     parallel_for(n_, [&](size_t i) {
-      const Vec<Dim> gi =
+      Vec<Dim> gi =
           p.mass[i] * (Eigen::Map<const Vec<Dim>>(&v[i * Dim]) - v_star_[i]) + dt_ * grad_[i];
+      if (st_.consistent) gi += mass_times_[i];
       Eigen::Map<Vec<Dim>> out(&g[i * Dim]);
       out = free_[i] * gi;
     });
@@ -291,6 +339,7 @@ class FemPotential {
     double* values = A.matrix.valuePtr();
     std::fill(values, values + A.matrix.nonZeros(), 0.0);
     add_element_blocks(double(dt_) * double(dt_), [](size_t) { return 1.0; }, values);
+    if (st_.consistent) add_consistent_mass(values);
     const Particles<Dim>& p = st_.nodes;
     for (size_t i = 0; i < n_; ++i) {
       // The fixed directions: the identity (they are not unknowns; it keeps the factor
@@ -352,12 +401,44 @@ class FemPotential {
 
   bool active(size_t) const { return true; }
 
+  // Coulomb friction from the boundaries' reactions at the solution v: the impulse J that holds
+  // a node's fixed directions is the potential's unprojected gradient there (m (v - v*) - dt f),
+  // so a node pressed onto a frictional boundary (J . n > 0) loses up to mu J . n / m of its
+  // tangential speed relative to it. The friction of the node's own weight was taken from v*
+  // already (its normal velocity removed there); this is the weight the elements press it with,
+  // which the solve's constraint carries. Without it a body slides on friction held by its
+  // contact nodes' own mass alone.
+  void apply_reaction_friction(std::vector<Real>* v) {
+    positions(*v);
+    fem_elastic_gradient(s_, st_, x_, &grad_);
+    if (st_.consistent)
+      consistent_mass_times(
+          st_, [&](size_t i) { return Vec<Dim>(Eigen::Map<const Vec<Dim>>(&(*v)[i * Dim]) - v_star_[i]); },
+          &mass_times_);
+    const Particles<Dim>& p = st_.nodes;
+    const ColliderContacts colliders(s_.colliders, st_.time);
+    parallel_for(n_, [&](size_t i) {
+      Eigen::Map<Vec<Dim>> vi(&(*v)[i * Dim]);
+      Vec<Dim> J = p.mass[i] * (Vec<Dim>(vi) - v_star_[i]) + dt_ * grad_[i];
+      if (st_.consistent) J += mass_times_[i];
+      visit_contacts<Dim>(s_, colliders, p.x[i],
+                          [&](const Vec<Dim>& n, const Vec<Dim>& vw, ContactType type, Real mu) {
+                            if (!(mu > 0) || type == ContactType::Sticky) return;
+                            const Real push = n.dot(J);
+                            if (!(push > 0)) return;
+                            const Vec<Dim> rel = Vec<Dim>(vi) - vw;
+                            const Vec<Dim> vt = rel - n.dot(rel) * n;
+                            const Real t = vt.norm();
+                            if (t > 0) vi -= std::min(t, mu * push / p.mass[i]) / t * vt;
+                          });
+    });
+  }
+
  private:
   // values += scale(e) * weight * the elements' Hessians at x_, each block projected to its
   // nodes' free directions, added in element order (the same sums every time).
   template <class Scale>
   void add_element_blocks(double weight, Scale&& scale, double* values) {
-    FemAssembly<Dim>& A = *st_.assembly;
     const FemElements<Dim>& el = st_.elements;
     constexpr int kC = Dim + 1;
     h_.resize(el.size());
@@ -367,17 +448,35 @@ class FemPotential {
     for (size_t e = 0; e < el.size(); ++e) {
       const double w = weight * scale(e);
       if (w == 0) continue;
-      const auto& c = el.corners[e];
       for (int a = 0; a < kC; ++a)
-        for (int b = 0; b < kC; ++b) {
-          const Mat<Dim> block = free_[c[size_t(a)]] *
-                                 h_[e].template block<Dim, Dim>(a * Dim, b * Dim).template cast<Real>() *
-                                 free_[c[size_t(b)]];
-          for (int j = 0; j < Dim; ++j) {
-            double* col = values + A.offset[((e * kC + size_t(a)) * kC + size_t(b)) * Dim + size_t(j)];
-            for (int i = 0; i < Dim; ++i) col[i] += w * double(block(i, j));
-          }
-        }
+        for (int b = 0; b < kC; ++b)
+          add_block(e, a, b, w, h_[e].template block<Dim, Dim>(a * Dim, b * Dim).template cast<Real>(),
+                    values);
+    }
+  }
+
+  // values += the consistent mass's difference from the lumped one, c (1 - (Dim + 1) delta_ab) I
+  // per element (zero row sums: the lumped diagonal the nodes' masses put in stays), projected.
+  void add_consistent_mass(double* values) {
+    const FemElements<Dim>& el = st_.elements;
+    for (size_t e = 0; e < el.size(); ++e) {
+      const double c = double(el.mass_coupling[e]);
+      if (c == 0) continue;
+      for (int a = 0; a <= Dim; ++a)
+        for (int b = 0; b <= Dim; ++b)
+          add_block(e, a, b, a == b ? -Dim * c : c, Mat<Dim>::Identity(), values);
+    }
+  }
+
+  // values += w P_a B P_b in element e's block (a, b), P the corners' free directions.
+  void add_block(size_t e, int a, int b, double w, const Mat<Dim>& B, double* values) const {
+    const FemAssembly<Dim>& A = *st_.assembly;
+    constexpr int kC = Dim + 1;
+    const auto& c = st_.elements.corners[e];
+    const Mat<Dim> block = free_[c[size_t(a)]] * B * free_[c[size_t(b)]];
+    for (int j = 0; j < Dim; ++j) {
+      double* col = values + A.offset[((e * kC + size_t(a)) * kC + size_t(b)) * Dim + size_t(j)];
+      for (int i = 0; i < Dim; ++i) col[i] += w * double(block(i, j));
     }
   }
 
@@ -414,7 +513,7 @@ class FemPotential {
   Real dt_;
   size_t n_;
   bool direct_ = true;
-  std::vector<Vec<Dim>> v_star_, x_, grad_;
+  std::vector<Vec<Dim>> v_star_, x_, grad_, mass_times_;
   std::vector<Mat<Dim>> free_;
   std::vector<ElementHessian<Dim>, Eigen::aligned_allocator<ElementHessian<Dim>>> h_;
 };
@@ -426,6 +525,9 @@ void implicit_fem_step(const MpmSettings& s, FemState<Dim>* st, double dt, FemSo
   NewtonSettings ns = s.newton;
   if (s.implicit_preconditioner != ImplicitPreconditioner::Jacobi) ns.cg_escalate_after = 0;
   const NewtonResult r = newton_minimize(potential, &v, ns);
+  bool friction = false;
+  for (const Collider& c : s.colliders) friction = friction || c.friction > 0;
+  if (friction) potential.apply_reaction_friction(&v);
   Particles<Dim>& p = st->nodes;
   parallel_for(p.size(), [&](size_t i) { p.v[i] = Eigen::Map<const Vec<Dim>>(&v[i * Dim]); });
   apply_node_contacts(s, st);  // friction on the solved velocities
@@ -481,6 +583,12 @@ void append_fem_body(const FemMesh& mesh, const std::vector<MaterialParams>& mat
     el.material.push_back(made.material);
     el.fiber.push_back(made.fiber);
     el.stiffness_damping.push_back(made.stiffness_damping);
+    el.plastic.emplace_back();
+    el.mass_coupling.push_back(
+        made.consistent_mass
+            ? Real(materials[made.material].rho * volume / ((Dim + 1) * (Dim + 2)))
+            : Real(0));
+    st->consistent = st->consistent || made.consistent_mass;
     st->damped = st->damped || made.mass_damping > 0 || made.stiffness_damping > 0;
     for (uint32_t k : c) {
       const Real share = Real(materials[made.material].rho * volume / (Dim + 1));
@@ -596,12 +704,45 @@ DtLimits fem_dt_limits(const MpmSettings& s, const FemState<Dim>& st) {
   return l;
 }
 
+bool fem_plastic(const MpmSettings& s) {
+  for (const PlasticParams& p : s.material_plasticity)
+    if (p.surface != YieldSurface::None) return true;
+  return false;
+}
+
+template <int Dim>
+size_t fem_plastic_flow(const MpmSettings& s, FemState<Dim>* st) {
+  if (!fem_plastic(s)) return 0;
+  FemElements<Dim>& el = st->elements;
+  const std::vector<Vec<Dim>>& x = st->nodes.x;
+  return deterministic_sum<size_t>(el.size(), [&](size_t e) -> size_t {
+    const PlasticParams& pp = s.material_plasticity[el.material[e]];
+    if (pp.surface == YieldSurface::None) return 0;
+    const auto& c = el.corners[e];
+    Mat<Dim> Ds;
+    for (int a = 1; a <= Dim; ++a) Ds.col(a - 1) = x[c[size_t(a)]] - x[c[0]];
+    Mat<Dim> F = Ds * el.rest_inverse[e];
+    PlasticState state = el.plastic[e];
+    if (!return_map(pp, &F, &state)) return 0;
+    // A flat element (D_s singular) keeps its rest shape until it opens again.
+    const Mat<Dim> rest = Ds.inverse() * F;
+    if (!rest.allFinite()) return 0;
+    el.rest_inverse[e] = rest;
+    el.plastic[e] = state;
+    return 1;
+  });
+}
+
 template <int Dim>
 double fem_step(const MpmSettings& s, FemState<Dim>* st, double dt, FemSolveStats* stats) {
-  if (s.integrator == Integrator::Implicit)
+  if (s.integrator == Integrator::Implicit) {
     implicit_fem_step(s, st, dt, stats);
-  else
+  } else {
+    if (st->consistent)
+      throw std::invalid_argument("consistent mass needs the implicit integrator");
     explicit_fem_step(s, st, dt);
+  }
+  fem_plastic_flow(s, st);
   st->time += dt;
   ++st->steps;
   return dt;
@@ -627,7 +768,11 @@ FemFigures measure_fem(const MpmSettings& s, const FemState<Dim>& st) {
     return Sums{m, 0.5 * m * v.squaredNorm(), m * v, m * x.cross(v)};
   });
   f.mass = sums.m;
+  // Consistent mass: 1/2 v^T M v with the elements' mass matrices (the lumped sum's correction).
   f.kinetic_energy = sums.ke;
+  if (st.consistent) f.kinetic_energy += consistent_mass_energy(st, [&](size_t i) {
+    return Vec<Dim>(p.v[i]);
+  });
   f.momentum = sums.mom;
   f.angular_momentum = sums.am;
   f.elastic_energy = fem_elastic_energy(s, st, p.x);
@@ -642,7 +787,9 @@ FemElementFigures fem_element_figures(const MpmSettings& s, const FemState<Dim>&
   f.von_mises.resize(el.size());
   f.J.resize(el.size());
   f.fiber.resize(el.size());
+  f.plastic_strain.resize(el.size());
   parallel_for(el.size(), [&](size_t e) {
+    f.plastic_strain[e] = double(el.plastic[e].strain);
     const MaterialParams& m = material_of(s, st, e);
     const Mat<Dim> F = fem_deformation(st, st.nodes.x, e);
     const double J = double(F.determinant());
@@ -681,7 +828,7 @@ size_t fem_memory_bytes(const FemState<Dim>& st) {
   const FemElements<Dim>& el = st.elements;
   size_t bytes = st.nodes.memory_bytes();
   bytes += el.size() * (sizeof(typename FemElements<Dim>::Corners) + 2 * sizeof(Mat<Dim>) +
-                        2 * sizeof(Real) + sizeof(uint16_t));
+                        2 * sizeof(Real) + sizeof(uint16_t) + sizeof(PlasticState));
   bytes += st.mass_damping.size() * sizeof(Real);
   bytes += st.incident.size() * sizeof(uint32_t) + st.faces.size() * sizeof(st.faces[0]);
   if (st.assembly) {
@@ -711,7 +858,8 @@ size_t fem_memory_bytes(const FemState<Dim>& st) {
   template FemFigures measure_fem<D>(const MpmSettings&, const FemState<D>&);                     \
   template long find_fem_fault<D>(const MpmSettings&, const FemState<D>&);                      \
   template FemElementFigures fem_element_figures<D>(const MpmSettings&, const FemState<D>&);    \
-  template size_t fem_memory_bytes<D>(const FemState<D>&);
+  template size_t fem_memory_bytes<D>(const FemState<D>&);                                   \
+  template size_t fem_plastic_flow<D>(const MpmSettings&, FemState<D>*);
 TEAR_FEM(2)
 TEAR_FEM(3)
 

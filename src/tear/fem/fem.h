@@ -7,6 +7,7 @@
 
 #include "tear/fem/mesh.h"
 #include "tear/materials/material.h"
+#include "tear/materials/plasticity.h"
 #include "tear/mpm/settings.h"
 #include "tear/mpm/time_step.h"
 #include "tear/particles/particles.h"
@@ -18,10 +19,11 @@
 
 namespace tear {
 
-// The elements of every body, in body order: corners (indices into the nodes), the rest shape's
-// D_m^-1 (F = D_s D_m^-1, D_s the edges from corner 0), rest volume, material, rest fiber
-// frame and Rayleigh stiffness damping beta (s). Fixed for a run (built from the meshes, not
-// state).
+// The elements of every body, in body order: corners (indices into the nodes), the inverse of
+// the elastic rest shape (F = D_s rest_inverse, D_s the edges from corner 0: D_m^-1 of the
+// mesh, times F_p^-1 once a plastic element has yielded), rest volume, material, rest fiber
+// frame, Rayleigh stiffness damping beta (s) and plastic state. Fixed for a run but for
+// rest_inverse and plastic, which plasticity changes (and checkpoints keep).
 template <int Dim>
 struct FemElements {
   using Corners = std::array<uint32_t, Dim + 1>;
@@ -31,6 +33,10 @@ struct FemElements {
   std::vector<uint16_t> material;
   std::vector<Mat<Dim>> fiber;
   std::vector<Real> stiffness_damping;
+  std::vector<PlasticState> plastic;
+  // Consistent mass (ElementSetup::consistent_mass): c = rho V / ((Dim + 1) (Dim + 2)), the
+  // element's mass matrix being c (1 + delta_ab) I over its corners; 0: lumped only.
+  std::vector<Real> mass_coupling;
   size_t size() const { return corners.size(); }
 };
 
@@ -65,6 +71,7 @@ struct FemState {
   // `damped`: some element has alpha or beta.
   std::vector<Real> mass_damping;
   bool damped = false;
+  bool consistent = false;  // some element has consistent mass (the implicit integrator only)
   double smallest_height = 0;  // of all elements at rest (mesh_figures)
   double time = 0;
   long steps = 0;
@@ -80,6 +87,10 @@ struct ElementSetup {
   uint16_t material = 0;
   Mat<Dim> fiber = Mat<Dim>::Identity();
   Real mass_damping = 0, stiffness_damping = 0;
+  // The consistent mass matrix rho V / ((Dim + 1) (Dim + 2)) (1 + delta_ab) instead of the
+  // lumped rho V / (Dim + 1) at each corner, in the implicit integrator's inertia (docs/fem.md).
+  // The nodes' masses (momentum, gravity, contact) stay the lumped row sums, which are equal.
+  bool consistent_mass = false;
 };
 
 // Append a body: the mesh's nodes (lumped mass: rho V / (Dim + 1) of each element at each of its
@@ -114,7 +125,19 @@ Mat<Dim> fem_deformation(const FemState<Dim>& state, const std::vector<Vec<Dim>>
 template <int Dim>
 DtLimits fem_dt_limits(const MpmSettings& s, const FemState<Dim>& state);
 
-// One step of dt: explicit or implicit by s.integrator. Returns dt.
+// Plasticity (s.material_plasticity): each element of a plastic material whose elastic F lies
+// outside its yield surface is returned to it (materials/plasticity.h, as MPM particles are),
+// and its elastic rest shape follows: rest_inverse = D_s^-1 F', so that F = F' at the nodes'
+// positions. The energy stays V0 Psi(F_e) over the mesh's rest volume. Run at the end of every
+// step; returns the number of elements that yielded.
+template <int Dim>
+size_t fem_plastic_flow(const MpmSettings& s, FemState<Dim>* state);
+
+// Whether an element of some material is plastic.
+bool fem_plastic(const MpmSettings& s);
+
+// One step of dt: explicit or implicit by s.integrator, then fem_plastic_flow. Returns dt.
+// Throws std::invalid_argument for an explicit step of a state with consistent mass.
 template <int Dim>
 double fem_step(const MpmSettings& s, FemState<Dim>* state, double dt, FemSolveStats* stats);
 
@@ -127,9 +150,11 @@ FemFigures measure_fem(const MpmSettings& s, const FemState<Dim>& state);
 
 // What each element holds at the nodes' positions, for the frames' volume mesh: strain energy
 // density Psi (J/m^3), the von Mises stress of the Cauchy stress sigma = P F^T / J (Pa; 0 where
-// J <= 0), J = det F, and the current direction of its first fiber, F a1 / |F a1| (z = 0 in 2D).
+// J <= 0), J = det F, the current direction of its first fiber, F a1 / |F a1| (z = 0 in 2D),
+// and the equivalent plastic strain.
 struct FemElementFigures {
   std::vector<double> energy, von_mises, J;
+  std::vector<double> plastic_strain;  // equivalent plastic strain (PlasticState::strain)
   std::vector<Vec3d> fiber;
 };
 template <int Dim>

@@ -500,6 +500,11 @@ Scene parse_scene(const json& doc, const std::string& file) {
                  (s.objects[0].fem ? "fem" : "mpm") +
                  "\": FEM and MPM bodies do not share a scene yet (they do not interact); run them "
                  "as two scenes");
+  for (size_t i = 0; i < s.objects.size(); ++i)
+    if (s.objects[i].consistent_mass && s.integrator != Integrator::Implicit)
+      r.fail(index_path("objects", i) + ".mass",
+             "\"consistent\" needs \"integrator\": \"implicit\" (an explicit step would solve "
+             "the mass matrix every step; it takes lumped masses)");
   if (!s.objects.empty() && s.objects[0].fem && s.damage.solver != DamageSolver::None)
     r.fail("damage.solver", "FEM bodies take no damage yet: remove the materials' damage blocks "
                             "or set \"none\"");

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "tear/damage/damage_settings.h"
+#include "tear/fem/mesh.h"
 #include "tear/geometry/codim_mesh.h"
 #include "tear/geometry/shape.h"
 #include "tear/grid/collider.h"
@@ -107,11 +108,18 @@ struct ObjectSpec {
   // about mesh_size (default grid.dx), simulated by fem/ (docs/fem.md), not sampled.
   bool fem = false;
   double mesh_size = 0;
+  // An FEM body whose shape is a volume mesh file (a "mesh" shape of .msh, .node/.ele or .vtu):
+  // its elements as they are (checked), nodes in world space; mesh_size is then their mean edge.
+  // Null: netgen meshes the shape.
+  std::shared_ptr<const FemMesh> fem_mesh;
   // "initial_nodes": where an FEM body's nodes start (its rest shape is the mesh's): at rest, each
   // at a random point of the mesh's bounding box, or all at the shape's centre, each within a
   // thousandth of mesh_size of it (AnisoMPM Fig. 19; docs/fem.md says why not exactly there).
   enum class NodeStart { Rest, Random, Point };
   NodeStart node_start = NodeStart::Rest;
+  // "mass": "consistent": the elements' consistent mass matrices in the implicit integrator's
+  // inertia instead of lumped masses (docs/fem.md).
+  bool consistent_mass = false;
 };
 
 // Preview rendering defaults ("render" section) for `tear render` and `tear run --render`;

@@ -224,7 +224,7 @@ json parse_object(const Reader& r, const json& o, const std::string& path, const
   spec->kind = ObjectKind(r.choice(o, path, "kind", {"volume", "surface", "curves"}, 0));
   if (spec->kind != ObjectKind::Volume) return parse_codim_object(r, o, path, scene, index, spec);
   r.object(o, path,
-           {"kind", "simulation", "mesh_size", "initial_nodes", "shape", "material", "ppc",
+           {"kind", "simulation", "mesh_size", "initial_nodes", "mass", "shape", "material", "ppc",
             "sampling", "velocity", "angular_velocity", "fibers", "regions"});
   json out;
   out["kind"] = "volume";
@@ -239,17 +239,36 @@ json parse_object(const Reader& r, const json& o, const std::string& path, const
         ObjectSpec::NodeStart(r.choice(o, path, "initial_nodes", {"rest", "random", "point"}, 0));
     const char* const starts[] = {"rest", "random", "point"};
     out["initial_nodes"] = starts[int(spec->node_start)];
+    spec->consistent_mass = r.choice(o, path, "mass", {"lumped", "consistent"}, 0) == 1;
+    out["mass"] = spec->consistent_mass ? "consistent" : "lumped";
   } else {
-    for (const char* key : {"mesh_size", "initial_nodes"})
+    for (const char* key : {"mesh_size", "initial_nodes", "mass"})
       if (r.find(o, key))
         r.fail(key_path(path, key), "is for \"simulation\": \"fem\" objects only");
   }
   const json* sj = r.find(o, "shape");
   if (!sj) r.fail(key_path(path, "shape"), "required");
+  std::shared_ptr<const FemMesh> file_mesh;
   if (sj->is_object() && sj->contains("type") && (*sj)["type"] == "particles")
     out["shape"] = parse_points(r, *sj, key_path(path, "shape"), scene, spec);
   else
-    out["shape"] = parse_shape(r, *sj, key_path(path, "shape"), false, &spec->shape);
+    out["shape"] = parse_shape(r, *sj, key_path(path, "shape"), false, &spec->shape,
+                               spec->fem ? &file_mesh : nullptr);
+  if (file_mesh) {
+    // A volume mesh file: its elements are the body's, placed by the shape's transform.
+    if (r.find(o, "mesh_size"))
+      r.fail(key_path(path, "mesh_size"),
+             "is for shapes that netgen meshes: the elements of the mesh file " +
+                 out["shape"]["file"].get<std::string>() + " are used as they are");
+    out.erase("mesh_size");
+    auto placed = std::make_shared<FemMesh>(*file_mesh);
+    for (Vec3d& x : placed->nodes) {
+      x = spec->shape.transform.to_world(x);
+      if (r.dim == 2) x.z() = 0;
+    }
+    spec->mesh_size = mesh_figures(*placed).mean_edge;
+    spec->fem_mesh = std::move(placed);
+  }
   // Particles are kept only inside the grid domain: a shape wholly outside it samples nothing.
   Vec3d lo, hi;
   spec->shape.bounds(&lo, &hi);
@@ -262,23 +281,21 @@ json parse_object(const Reader& r, const json& o, const std::string& path, const
   if (spec->fem) {
     const Shape::Type t = spec->shape.type;
     const bool meshable = t == Shape::Type::Box || t == Shape::Type::Sphere ||
-                          t == Shape::Type::Cylinder || (r.dim == 3 && t == Shape::Type::Mesh);
+                          t == Shape::Type::Cylinder || t == Shape::Type::Mesh;
     if (spec->points || !meshable)
       r.fail(key_path(path, "shape"),
-             std::string("an FEM body is meshed from a box, sphere, cylinder") +
-                 (r.dim == 3 ? " or mesh" : "") + " shape (docs/fem.md), got " +
+             std::string("an FEM body is meshed from a box, sphere, cylinder or mesh") +
+                 (r.dim == 3 ? "" : " (a triangle mesh file)") + " shape (docs/fem.md), got " +
                  (spec->points ? std::string("particles") : out["shape"].value("type", "?")));
   }
   spec->material = material_index(r, o, path, scene, &out);
   const Model model = scene.materials[size_t(spec->material)].params.model;
   if (spec->fem) {
     const MaterialSpec& m = scene.materials[size_t(spec->material)];
-    const char* refused = m.plasticity.surface != YieldSurface::None ? "plasticity"
-                          : m.inextensibility.enabled             ? "inextensibility"
-                                                                  : nullptr;
-    if (refused)
-      r.fail(key_path(path, "material"), "material \"" + m.name + "\" has " + refused +
-                                             ", which FEM bodies do not take yet (docs/fem.md)");
+    if (m.inextensibility.enabled)
+      r.fail(key_path(path, "material"), "material \"" + m.name +
+                                             "\" has inextensibility, which FEM bodies do not "
+                                             "take yet (docs/fem.md)");
   }
   if (!spec->fem) {
     const MaterialSpec& m = scene.materials[size_t(spec->material)];

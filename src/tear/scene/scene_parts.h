@@ -8,9 +8,11 @@ namespace tear::scene_detail {
 
 // "materials": fills scene->materials in name order.
 json parse_materials(const Reader& r, const json& doc, Scene* scene);
-// One shape description at `path`; half_space is allowed only for colliders.
+// One shape description at `path`; half_space is allowed only for colliders. A "mesh" shape
+// read from a volume mesh file (.msh, .node/.ele, .vtu) is the solid its elements fill; the
+// elements themselves (checked, in the shape's local frame) go to *volume where it is given.
 json parse_shape(const Reader& r, const json& j, const std::string& path, bool allow_half_space,
-                 Shape* shape);
+                 Shape* shape, std::shared_ptr<const FemMesh>* volume = nullptr);
 // The index in scene.materials of the material named at obj["material"] (also recorded in
 // (*out)["material"]); an unknown name fails listing the defined ones.
 int material_index(const Reader& r, const json& obj, const std::string& path, const Scene& scene,

@@ -2,13 +2,17 @@
 // Transform convention: x_world = translate + R (scale x_local). R is, in 2D, a rotation by
 // "rotate" degrees counter-clockwise about z; in 3D, "rotate": {"axis": [x,y,z], "angle_deg": a}
 // (right-handed axis-angle).
+#include "tear/fem/mesh.h"
 #include "tear/geometry/shape.h"
 #include "tear/io/mesh_io.h"
+#include "tear/io/volume_mesh.h"
 #include "tear/scene/scene_parts.h"
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <optional>
@@ -72,12 +76,102 @@ double positive_number(const Reader& r, const json& obj, const std::string& path
   return v;
 }
 
+// Whether `file` is a volume mesh (tetrahedra or 2D triangles) by its extension: gmsh .msh,
+// TetGen .node/.ele, VTU.
+bool volume_mesh_file(const std::string& file) {
+  std::string ext = std::filesystem::path(file).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  return ext == ".msh" || ext == ".node" || ext == ".ele" || ext == ".vtu";
+}
+
+// The solid a volume mesh fills, for the inside and distance tests of every other use of the
+// shape: 3D, the closed surface of its boundary faces; 2D, a prism over the triangles (caps at
+// z = +-Z, sides on the boundary edges), whose z = 0 section is the mesh, with Z large enough
+// that a cap is never nearer than a side to a point of the plane near the mesh.
+std::shared_ptr<const MeshSolid> solid_of(const FemMesh& m, const std::string& name) {
+  std::vector<Vec3d> points = m.nodes;
+  std::vector<std::array<int, 3>> triangles;
+  if (m.dim == 3) {
+    triangles = boundary_faces(m);
+  } else {
+    Vec3d lo = m.nodes[0], hi = m.nodes[0];
+    for (const Vec3d& x : m.nodes) lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+    const double z = 10 * (hi - lo).norm();
+    const int n = int(m.nodes.size());
+    points.resize(2 * m.nodes.size());
+    for (size_t i = 0; i < m.nodes.size(); ++i) {
+      points[i] = m.nodes[i] - z * Vec3d::UnitZ();
+      points[i + m.nodes.size()] = m.nodes[i] + z * Vec3d::UnitZ();
+    }
+    for (const std::array<int, 4>& t : m.elements) {
+      triangles.push_back({t[0], t[2], t[1]});               // bottom, facing -z
+      triangles.push_back({t[0] + n, t[1] + n, t[2] + n});   // top, facing +z
+    }
+    for (const std::array<int, 3>& e : boundary_faces(m)) {  // the body on the left of e0 - e1
+      triangles.push_back({e[0], e[1], e[1] + n});
+      triangles.push_back({e[0], e[1] + n, e[0] + n});
+    }
+  }
+  return std::make_shared<const MeshSolid>(points, triangles, name);
+}
+
+// A "mesh" shape's volume mesh file, read and checked as an FEM mesh (check_fem_mesh: the
+// element and the reason), in the shape's local frame. A file whose elements are all the other
+// way round (a mirrored convention) is turned; a mix is refused at its first inverted element.
+std::shared_ptr<const FemMesh> read_volume_file(const Reader& r, const std::string& file,
+                                                const std::string& fp) {
+  VolumeMesh v;
+  try {
+    v = read_volume_mesh(file);
+  } catch (const std::exception& e) {
+    r.fail(fp, e.what());
+  }
+  const std::string quoted = "'" + file + "'";
+  if (v.dim != r.dim)
+    r.fail(fp, quoted + (v.dim == 3
+                             ? " holds tetrahedra: a 2D scene takes a mesh of triangles"
+                             : " holds triangles only (a 2D mesh): a 3D scene takes tetrahedra, or "
+                               "a closed surface as OBJ, PLY or STL"));
+  auto m = std::make_shared<FemMesh>();
+  m->dim = v.dim;
+  m->nodes.reserve(v.nodes.size());
+  for (const std::array<double, 3>& x : v.nodes) m->nodes.emplace_back(x[0], x[1], x[2]);
+  m->elements.reserve(v.cells.size());
+  for (const std::array<uint32_t, 4>& c : v.cells)
+    m->elements.push_back({int(c[0]), int(c[1]), int(c[2]), v.dim == 3 ? int(c[3]) : -1});
+  bool all_inverted = true;
+  for (size_t e = 0; e < m->elements.size() && all_inverted; ++e)
+    all_inverted = element_volume(*m, e) < 0;
+  if (all_inverted) orient_elements(m.get());
+  try {
+    check_fem_mesh(*m, quoted);
+  } catch (const std::exception& e) {
+    r.fail(fp, e.what());
+  }
+  return m;
+}
+
 // The closed mesh of a "mesh" shape: "file" is relative to the scene file's folder; the
-// resolved scene keeps its absolute path.
+// resolved scene keeps its absolute path. A surface (OBJ, PLY, STL; 3D only) is the solid's
+// boundary; a volume mesh (volume_mesh_file) is the solid itself, returned in *volume too when
+// it is asked for (FEM bodies take its elements as they are).
 std::shared_ptr<const MeshSolid> read_mesh(const Reader& r, const json& j, const std::string& path,
-                                           json* out) {
+                                           json* out, std::shared_ptr<const FemMesh>* volume) {
   const std::string fp = key_path(path, "file");
   const std::string file = scene_file(r, j, path, out);
+  if (volume_mesh_file(file)) {
+    std::shared_ptr<const FemMesh> m = read_volume_file(r, file, fp);
+    if (volume) *volume = m;
+    try {
+      return solid_of(*m, "mesh '" + file + "'");
+    } catch (const std::exception& e) {
+      r.fail(fp, "'" + file + "': its boundary " + e.what());
+    }
+  }
+  if (r.dim != 3)
+    r.fail(fp, "a 2D scene's \"mesh\" is a triangle mesh file (.msh, .node/.ele or .vtu), not '" +
+                   file + "' (OBJ, PLY and STL surfaces need dim 3)");
   TriMesh mesh;
   try {
     mesh = read_mesh_file(file);
@@ -179,7 +273,7 @@ void parse_round_shape(const Reader& r, const json& j, const std::string& path, 
 }  // namespace
 
 json parse_shape(const Reader& r, const json& j, const std::string& path, bool allow_half_space,
-                 Shape* s) {
+                 Shape* s, std::shared_ptr<const FemMesh>* volume) {
   if (!j.is_object()) r.fail(path, "must be an object, got " + type_desc(j));
   // In Shape::Type's order; "particles" last.
   int type = r.choice(j, path, "type",
@@ -189,7 +283,6 @@ json parse_shape(const Reader& r, const json& j, const std::string& path, bool a
   if (type == 9)
     r.fail(tp, allow_half_space ? "\"particles\" is only for objects (a collider needs a surface)"
                                 : "\"particles\" is read by the object, not as a shape");
-  if (type == 5 && r.dim != 3) r.fail(tp, "\"mesh\" needs a 3D scene (dim 3)");
   if (type == 4 && !allow_half_space)
     r.fail(tp, "\"half_space\" is only allowed for boundaries (objects must be bounded)");
   switch (type) {
@@ -245,7 +338,7 @@ json parse_shape(const Reader& r, const json& j, const std::string& path, bool a
       out["inner_radius"] = s->inner_radius;
     }
   } else if (type == 5) {
-    s->mesh = read_mesh(r, j, path, &out);
+    s->mesh = read_mesh(r, j, path, &out, volume);
   } else if (type >= 6) {
     parse_round_shape(r, j, path, s, &out);
   } else {

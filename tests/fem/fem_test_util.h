@@ -1,0 +1,45 @@
+// Shared by the FEM tests: meshes that need no mesher.
+#pragma once
+
+#include "tear/fem/mesh.h"
+
+#include <algorithm>
+#include <array>
+
+namespace tear::test {
+
+// A box [lo, hi] split into n cells per unit of `cells`, each cell into 6 tetrahedra (Kuhn) or
+// 2 triangles: a structured mesh that needs no mesher.
+inline FemMesh structured_box(int dim, const Vec3d& lo, const Vec3d& hi, const std::array<int, 3>& n) {
+  FemMesh m;
+  m.dim = dim;
+  const int nz = dim == 3 ? n[2] : 0;
+  const auto id = [&](int i, int j, int k) { return (k * (n[1] + 1) + j) * (n[0] + 1) + i; };
+  for (int k = 0; k <= nz; ++k)
+    for (int j = 0; j <= n[1]; ++j)
+      for (int i = 0; i <= n[0]; ++i) {
+        Vec3d x = lo;
+        x.x() += (hi.x() - lo.x()) * i / n[0];
+        x.y() += (hi.y() - lo.y()) * j / n[1];
+        if (dim == 3) x.z() += (hi.z() - lo.z()) * k / nz;
+        m.nodes.push_back(x);
+      }
+  for (int k = 0; k < std::max(nz, 1); ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i) {
+        if (dim == 2) {
+          m.elements.push_back({id(i, j, 0), id(i + 1, j, 0), id(i + 1, j + 1, 0), -1});
+          m.elements.push_back({id(i, j, 0), id(i + 1, j + 1, 0), id(i, j + 1, 0), -1});
+          continue;
+        }
+        // The six tetrahedra around the diagonal from corner 0 to corner 7.
+        int c[8];
+        for (int b = 0; b < 8; ++b) c[b] = id(i + (b & 1), j + ((b >> 1) & 1), k + ((b >> 2) & 1));
+        const int paths[6][2] = {{1, 3}, {1, 5}, {2, 3}, {2, 6}, {4, 5}, {4, 6}};
+        for (const auto& p : paths) m.elements.push_back({c[0], c[p[0]], c[p[0] | p[1]], c[7]});
+      }
+  orient_elements(&m);
+  return m;
+}
+
+}  // namespace tear::test
