@@ -1,10 +1,16 @@
 // Shared by the FEM tests: meshes that need no mesher.
 #pragma once
 
+#include "tear/driver/simulation.h"
 #include "tear/fem/mesh.h"
+#include "tear/scene/scene.h"
+
+#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <array>
+#include <memory>
+#include <string>
 
 namespace tear::test {
 
@@ -40,6 +46,23 @@ inline FemMesh structured_box(int dim, const Vec3d& lo, const Vec3d& hi, const s
       }
   orient_elements(&m);
   return m;
+}
+
+// Runs `frames` frames of the scene straight through and again resumed from a checkpoint after
+// half of them, expecting the same final checkpoint bytes. Returns the straight run; *mid gets
+// the checkpoint.
+inline std::unique_ptr<Simulation> expect_resumes_identically(const Scene& s, int frames,
+                                                              std::string* mid) {
+  auto whole = make_simulation(s);
+  for (int f = 0; f < frames; ++f) whole->advance_frame();
+  auto first = make_simulation(s);
+  for (int f = 0; f < frames / 2; ++f) first->advance_frame();
+  *mid = first->encode_checkpoint();
+  auto second = make_simulation(s);
+  second->decode_checkpoint(*mid);
+  for (int f = frames / 2; f < frames; ++f) second->advance_frame();
+  EXPECT_EQ(whole->encode_checkpoint(), second->encode_checkpoint());
+  return whole;
 }
 
 }  // namespace tear::test

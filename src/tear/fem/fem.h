@@ -121,7 +121,7 @@ template <int Dim>
 Mat<Dim> fem_deformation(const FemState<Dim>& state, const std::vector<Vec<Dim>>& x, size_t e);
 
 // The step's limits: max_dt, the elastic wave across the smallest element (explicit only), the
-// nodes' speed (cfl h / max |v|, h the smallest element's height).
+// nodes' speed (cfl dx / max |v|: contact's scale, dx = s.dx).
 template <int Dim>
 DtLimits fem_dt_limits(const MpmSettings& s, const FemState<Dim>& state);
 
