@@ -13,10 +13,12 @@ mode=${1:-demo}
 packages=(cmake ninja-build g++ pkg-config libeigen3-dev libtbb-dev nlohmann-json3-dev
           libcli11-dev libgtest-dev libgmock-dev libbenchmark-dev python3
           libembree-dev libpng-dev ffmpeg
-          libopenvdb-dev libboost-iostreams-dev libnglib-dev)
+          libopenvdb-dev libboost-iostreams-dev libnglib-dev libsuitesparse-dev libopenblas0-pthread)
 # libboost-iostreams-dev: Debian's libopenvdb-dev does not pull in the Boost headers that the
 # OpenVDB headers include, nor the Boost iostreams that its CMake find module requires.
-# libnglib-dev: netgen, the FEM bodies' mesher (docs/fem.md).
+# libnglib-dev: netgen, the FEM bodies' mesher (docs/fem.md). libsuitesparse-dev: CHOLMOD, the
+# implicit FEM solve's factor; libopenblas0-pthread: a blocked BLAS under it (with the reference
+# BLAS CHOLMOD is no faster than Eigen's own factor; held to one thread, docs/fem.md "Speed").
 
 missing=()
 for p in "${packages[@]}"; do

@@ -6,6 +6,10 @@
 
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
+#ifdef TEAR_HAVE_CHOLMOD
+#include <Eigen/CholmodSupport>
+#include <dlfcn.h>
+#endif
 
 #include <algorithm>
 #include <cmath>
@@ -136,9 +140,44 @@ void explicit_fem_step(const MpmSettings& s, FemState<Dim>* st, double dt) {
 
 }  // namespace
 
+namespace fem_detail {
+
+// The implicit matrix's direct factor: CHOLMOD's supernodal Cholesky where tear is built with
+// SuiteSparse (its ordering and symbolic analysis once, its numeric factor per Hessian), else
+// Eigen's SimplicialLDLT. Both are sequential, so the same matrix gives the same factor on any
+// machine and thread count (with the same BLAS library). entries(): the factor's stored values,
+// for memory figures.
+#ifdef TEAR_HAVE_CHOLMOD
+class DirectFactor
+    : public Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> {
+ public:
+  // One thread in OpenBLAS (when that is the BLAS installed) and in the OpenMP regions CHOLMOD
+  // and an OpenMP BLAS run (tear itself uses TBB, not OpenMP): a blocked BLAS's sums would
+  // otherwise depend on the machine's core count. tear's own threads assemble the matrix; the
+  // factor is sequential.
+  DirectFactor() {
+    using SetThreads = void (*)(int);
+    for (const char* name : {"openblas_set_num_threads", "omp_set_num_threads"})
+      if (const auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, name))) set(1);
+  }
+  size_t entries() const {
+    const cholmod_factor* f = m_cholmodFactor;
+    if (!f) return 0;
+    return size_t(f->is_super ? f->xsize : f->nzmax);
+  }
+};
+#else
+class DirectFactor : public Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> {
+ public:
+  size_t entries() const { return size_t(matrixL().nestedExpression().nonZeros()); }
+};
+#endif
+
+}  // namespace fem_detail
+
 // The implicit solve's matrix M + dt^2 K over the nodes' Dim unknowns each, with its sparsity
 // fixed by the elements (both triangles stored), the place of every element block in it, and
-// its LDL^T factor (Eigen's SimplicialLDLT: its ordering analysed once).
+// its direct factor (DirectFactor: its ordering analysed once).
 template <int Dim>
 class FemAssembly {
  public:
@@ -186,7 +225,7 @@ class FemAssembly {
   // to the nodes' free directions, on the matrix's pattern: its values.
   std::vector<double> damping;
   Eigen::VectorXd in, out;  // the solves' buffers
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> factor;
+  fem_detail::DirectFactor factor;
   bool analysed = false;
   // The factor's dt (-1: none yet), the CG iterations of the last solve preconditioned by it, and
   // the factorisations so far.
@@ -840,7 +879,7 @@ size_t fem_memory_bytes(const FemState<Dim>& st) {
     bytes += size_t(a.matrix.nonZeros()) * (sizeof(double) + sizeof(int)) +
              (a.offset.size() + a.node_block.size()) * sizeof(int) +
              a.damping.size() * sizeof(double);
-    if (a.analysed) bytes += size_t(a.factor.matrixL().nestedExpression().nonZeros()) * 12;
+    if (a.analysed) bytes += a.factor.entries() * 12;
   }
   return bytes;
 }
