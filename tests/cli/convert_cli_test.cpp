@@ -2,6 +2,7 @@
 // frames hold the PLY values, frames.pvd lists the VTU frames at their times, bad input.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <regex>
 #include <string>
@@ -141,6 +142,38 @@ TEST_F(ConvertCli, RunWritesEveryFormatAndThePvdAcrossResume) {
       << err_;
   EXPECT_FALSE(fs::exists(path("part/frames.pvd")));
   EXPECT_FALSE(fs::exists(frame_path(path("part"), 0, "vtu")));
+}
+
+// An FEM run (docs/fem.md) through the command line: stopped after 2 frames and resumed to 4, its
+// node frames, surface meshes and volume meshes are the bytes of a run that never stopped, and
+// `tear convert` turns its node frames into BGEO and VTU with the PLY values.
+TEST_F(ConvertCli, FemRunResumesBitIdenticallyAndConverts) {
+  const json s = json::parse(R"({"dim": 3,
+      "grid": {"dx": 0.05, "domain_min": [0, 0, 0], "domain_max": [1, 1, 1], "walls": "slip"},
+      "time": {"frame_dt": 0.02, "frames": 4, "max_dt": 0.005},
+      "gravity": [0, -9.81, 0], "integrator": "implicit",
+      "materials": {"jelly": {"model": "neo_hookean", "E": 2e4, "nu": 0.3, "rho": 1000}},
+      "objects": [{"simulation": "fem", "mesh_size": 0.1, "material": "jelly",
+                   "shape": {"type": "box", "min": [0.3, 0.3, 0.3], "max": [0.6, 0.5, 0.5]}}]})");
+  const std::string file = write_scene(s, "fem.json");
+  ASSERT_EQ(tear("run " + file + " -o " + path("whole") + " -q"), 0) << err_;
+  ASSERT_EQ(tear("run " + file + " -o " + path("part") + " -q --frames 2"), 0) << err_;
+  ASSERT_EQ(tear("run " + file + " -o " + path("part") + " -q --resume"), 0) << err_;
+  for (int f = 0; f <= 4; ++f)
+    for (const char* kind : {".ply", ".fem.ply", ".volume.vtu"}) {
+      char name[32];
+      std::snprintf(name, sizeof(name), "frames/%05d%s", f, kind);
+      SCOPED_TRACE(name);
+      ASSERT_TRUE(fs::exists(path("whole") + "/" + name));
+      EXPECT_EQ(read_file(path("whole") + "/" + name), read_file(path("part") + "/" + name));
+    }
+  ASSERT_EQ(tear("convert " + path("whole") + " --to bgeo"), 0) << err_;
+  ASSERT_EQ(tear("convert " + path("whole") + " --to vtu"), 0) << err_;
+  for (int f = 0; f <= 4; ++f) {
+    const PointTable ply = read_frame(frame_path(path("whole"), f, "ply"));
+    expect_same_values(ply, read_frame(frame_path(path("whole"), f, "bgeo")), "bgeo");
+    expect_same_values(ply, read_frame(frame_path(path("whole"), f, "vtu")), "vtu");
+  }
 }
 
 }  // namespace
