@@ -629,6 +629,7 @@ void append_fem_body(const FemMesh& mesh, const std::vector<MaterialParams>& mat
             : Real(0));
     st->consistent = st->consistent || made.consistent_mass;
     st->damped = st->damped || made.mass_damping > 0 || made.stiffness_damping > 0;
+    st->stiffness_damping_max = std::max(st->stiffness_damping_max, made.stiffness_damping);
     for (uint32_t k : c) {
       const Real share = Real(materials[made.material].rho * volume / (Dim + 1));
       p.mass[k] += share;
@@ -641,6 +642,8 @@ void append_fem_body(const FemMesh& mesh, const std::vector<MaterialParams>& mat
       if (k >= 0) k += int(base);
     st->faces.push_back(f);
   }
+  for (size_t i = body.node_begin; i < p.size(); ++i)
+    st->mass_damping_rate_max = std::max(st->mass_damping_rate_max, st->mass_damping[i] / p.mass[i]);
   body.node_end = p.size();
   body.element_end = el.size();
   body.face_end = st->faces.size();
@@ -731,10 +734,8 @@ DtLimits fem_dt_limits(const MpmSettings& s, const FemState<Dim>& st) {
     // Symplectic Euler with the damping force at v^n is stable for dt omega <= 2 (sqrt(1 +
     // zeta^2) - zeta), zeta = (alpha / omega + beta omega) / 2 the highest mode's damping ratio,
     // omega = 2 c / h (docs/fem.md).
-    const double beta = double(parallel_max<Real>(
-        st.elements.size(), [&](size_t e) { return st.elements.stiffness_damping[e]; }, 0));
-    const double alpha = double(parallel_max<Real>(
-        p.size(), [&](size_t i) { return st.mass_damping[i] / p.mass[i]; }, 0));
+    const double beta = double(st.stiffness_damping_max);
+    const double alpha = double(st.mass_damping_rate_max);
     const double zeta = beta * c / h + alpha * h / (4 * c);
     l.wave *= std::sqrt(1 + zeta * zeta) - zeta;
   }

@@ -71,6 +71,9 @@ struct FemState {
   // `damped`: some element has alpha or beta.
   std::vector<Real> mass_damping;
   bool damped = false;
+  // The largest beta of any element and alpha (mass_damping / mass) of any node: the explicit
+  // step's damping limit (fem_dt_limits), fixed once the bodies are made.
+  Real stiffness_damping_max = 0, mass_damping_rate_max = 0;
   bool consistent = false;  // some element has consistent mass (the implicit integrator only)
   double smallest_height = 0;  // of all elements at rest (mesh_figures)
   double time = 0;
