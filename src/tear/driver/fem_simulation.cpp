@@ -53,7 +53,6 @@ class FemSimulation final : public Simulation {
         }
         check_fem_mesh(mesh, name + " (its mesh)");
       }
-      figures_.push_back(mesh_figures(mesh));
       const uint64_t key = mix(scene.seed ^ mix(k + 1));
       const auto setup = [&](const Vec3d& c, size_t e) {
         ElementSetup<Dim> made;
@@ -221,7 +220,11 @@ class FemSimulation final : public Simulation {
     return {part, volume};
   }
 
-  std::vector<MeshFigures> body_meshes() const override { return figures_; }
+  std::vector<MeshFigures> body_meshes() const override {
+    std::vector<MeshFigures> out;
+    for (const FemBody& b : state_.bodies) out.push_back(b.figures);
+    return out;
+  }
 
   std::vector<std::pair<std::string, double>> phase_seconds() const override {
     return {{"fem step", step_seconds_}};
@@ -399,7 +402,6 @@ class FemSimulation final : public Simulation {
   std::vector<std::string> material_names_;
   double frame_dt_;
   FemState<Dim> state_;
-  std::vector<MeshFigures> figures_;
   FemSolveStats solve_;
   double step_seconds_ = 0;
   std::chrono::steady_clock::time_point start_;

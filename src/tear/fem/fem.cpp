@@ -36,6 +36,14 @@ std::array<Vec<Dim>, Dim + 1> shape_gradients(const Mat<Dim>& rest_inverse) {
   return g;
 }
 
+// An element's edges from its corner 0 at positions x, as columns (D_s; D_m at rest).
+template <int Dim>
+Mat<Dim> edge_matrix(const typename FemElements<Dim>::Corners& c, const std::vector<Vec<Dim>>& x) {
+  Mat<Dim> D;
+  for (int a = 1; a <= Dim; ++a) D.col(a - 1) = x[c[size_t(a)]] - x[c[0]];
+  return D;
+}
+
 template <int Dim>
 const MaterialParams& material_of(const MpmSettings& s, const FemState<Dim>& st, size_t e) {
   return s.materials[st.elements.material[e]];
@@ -322,38 +330,23 @@ class FemPotential {
     positions(v);
     const Particles<Dim>& p = st_.nodes;
     const double kinetic = deterministic_sum<double>(n_, [&](size_t i) {
-      return 0.5 * double(p.mass[i]) *
-             double((Eigen::Map<const Vec<Dim>>(&v[i * Dim]) - v_star_[i]).squaredNorm());
+      return 0.5 * double(p.mass[i]) * double(dv(v, i).squaredNorm());
     });
     double damping = 0;
     if (st_.damped) {
       const Eigen::Map<const Eigen::VectorXd> vv(v.data(), Eigen::Index(v.size()));
       damping = 0.5 * double(dt_) * vv.dot(damping_matrix() * vv);
     }
-    double consistent = 0;
-    if (st_.consistent) {
-      const auto dv = [&](size_t i) {
-        return Vec<Dim>(Eigen::Map<const Vec<Dim>>(&v[i * Dim]) - v_star_[i]);
-      };
-      consistent = consistent_mass_energy(st_, dv);
-    }
+    const double consistent =
+        st_.consistent ? consistent_mass_energy(st_, [&](size_t i) { return dv(v, i); }) : 0.0;
     return kinetic + consistent + fem_elastic_energy(s_, st_, x_) + damping;
   }
 
   void gradient(const std::vector<Real>& v, std::vector<Real>& g) {
-    positions(v);
-    fem_elastic_gradient(s_, st_, x_, &grad_);
-    if (st_.consistent)
-      consistent_mass_times(
-          st_, [&](size_t i) { return Vec<Dim>(Eigen::Map<const Vec<Dim>>(&v[i * Dim]) - v_star_[i]); },
-          &mass_times_);
-    const Particles<Dim>& p = st_.nodes;
+    node_gradient(v);
     parallel_for(n_, [&](size_t i) {
-      Vec<Dim> gi =
-          p.mass[i] * (Eigen::Map<const Vec<Dim>>(&v[i * Dim]) - v_star_[i]) + dt_ * grad_[i];
-      if (st_.consistent) gi += mass_times_[i];
       Eigen::Map<Vec<Dim>> out(&g[i * Dim]);
-      out = free_[i] * gi;
+      out = free_[i] * grad_[i];
     });
     if (st_.damped) {  // dt D v, D projected already
       FemAssembly<Dim>& A = *st_.assembly;
@@ -448,18 +441,12 @@ class FemPotential {
   // which the solve's constraint carries. Without it a body slides on friction held by its
   // contact nodes' own mass alone.
   void apply_reaction_friction(std::vector<Real>* v) {
-    positions(*v);
-    fem_elastic_gradient(s_, st_, x_, &grad_);
-    if (st_.consistent)
-      consistent_mass_times(
-          st_, [&](size_t i) { return Vec<Dim>(Eigen::Map<const Vec<Dim>>(&(*v)[i * Dim]) - v_star_[i]); },
-          &mass_times_);
+    node_gradient(*v);
     const Particles<Dim>& p = st_.nodes;
     const ColliderContacts colliders(s_.colliders, st_.time);
     parallel_for(n_, [&](size_t i) {
       Eigen::Map<Vec<Dim>> vi(&(*v)[i * Dim]);
-      Vec<Dim> J = p.mass[i] * (Vec<Dim>(vi) - v_star_[i]) + dt_ * grad_[i];
-      if (st_.consistent) J += mass_times_[i];
+      const Vec<Dim>& J = grad_[i];
       visit_contacts<Dim>(s_, colliders, p.x[i],
                           [&](const Vec<Dim>& n, const Vec<Dim>& vw, ContactType type, Real mu) {
                             if (!(mu > 0) || type == ContactType::Sticky) return;
@@ -474,6 +461,26 @@ class FemPotential {
   }
 
  private:
+  // Node i's velocity change from v*.
+  Vec<Dim> dv(const std::vector<Real>& v, size_t i) const {
+    return Eigen::Map<const Vec<Dim>>(&v[i * Dim]) - v_star_[i];
+  }
+
+  // grad_ = the potential's gradient at v before the boundaries' projection and without the
+  // damping term: m (v - v*) + dt dE/dx (+ C (v - v*)) per node.
+  void node_gradient(const std::vector<Real>& v) {
+    positions(v);
+    fem_elastic_gradient(s_, st_, x_, &grad_);
+    if (st_.consistent)
+      consistent_mass_times(st_, [&](size_t i) { return dv(v, i); }, &mass_times_);
+    const Particles<Dim>& p = st_.nodes;
+    parallel_for(n_, [&](size_t i) {
+      Vec<Dim> gi = p.mass[i] * dv(v, i) + dt_ * grad_[i];
+      if (st_.consistent) gi += mass_times_[i];
+      grad_[i] = gi;
+    });
+  }
+
   // values += scale(e) * weight * the elements' Hessians at x_, each block projected to its
   // nodes' free directions, added in element order (the same sums every time).
   template <class Scale>
@@ -606,14 +613,12 @@ void append_fem_body(const FemMesh& mesh, const std::vector<MaterialParams>& mat
   FemElements<Dim>& el = st->elements;
   for (size_t e = 0; e < mesh.elements.size(); ++e) {
     typename FemElements<Dim>::Corners c;
-    Mat<Dim> Dm;
     Vec3d centroid = Vec3d::Zero();
     for (int a = 0; a <= Dim; ++a) {
       c[size_t(a)] = base + uint32_t(mesh.elements[e][size_t(a)]);
       centroid += mesh.nodes[size_t(mesh.elements[e][size_t(a)])] / (Dim + 1);
     }
-    for (int a = 1; a <= Dim; ++a)
-      Dm.col(a - 1) = (p.x[c[size_t(a)]] - p.x[c[0]]);
+    const Mat<Dim> Dm = edge_matrix<Dim>(c, p.x);
     const double volume = element_volume(mesh, e);
     const ElementSetup<Dim> made = setup(centroid, e);
     el.corners.push_back(c);
@@ -647,10 +652,10 @@ void append_fem_body(const FemMesh& mesh, const std::vector<MaterialParams>& mat
   body.node_end = p.size();
   body.element_end = el.size();
   body.face_end = st->faces.size();
+  body.figures = mesh_figures(mesh);
   st->bodies.push_back(body);
-  const MeshFigures fig = mesh_figures(mesh);
-  st->smallest_height = st->bodies.size() == 1 ? fig.smallest_height
-                                               : std::min(st->smallest_height, fig.smallest_height);
+  const double h = body.figures.smallest_height;
+  st->smallest_height = st->bodies.size() == 1 ? h : std::min(st->smallest_height, h);
   // Incidence, rebuilt over all bodies.
   st->incident_begin.assign(p.size() + 1, 0);
   for (const auto& cs : el.corners)
@@ -666,10 +671,7 @@ void append_fem_body(const FemMesh& mesh, const std::vector<MaterialParams>& mat
 
 template <int Dim>
 Mat<Dim> fem_deformation(const FemState<Dim>& st, const std::vector<Vec<Dim>>& x, size_t e) {
-  const auto& c = st.elements.corners[e];
-  Mat<Dim> Ds;
-  for (int a = 1; a <= Dim; ++a) Ds.col(a - 1) = x[c[size_t(a)]] - x[c[0]];
-  return Ds * st.elements.rest_inverse[e];
+  return edge_matrix<Dim>(st.elements.corners[e], x) * st.elements.rest_inverse[e];
 }
 
 template <int Dim>
@@ -762,9 +764,7 @@ size_t fem_plastic_flow(const MpmSettings& s, FemState<Dim>* st) {
   return deterministic_sum<size_t>(el.size(), [&](size_t e) -> size_t {
     const PlasticParams& pp = s.material_plasticity[el.material[e]];
     if (pp.surface == YieldSurface::None) return 0;
-    const auto& c = el.corners[e];
-    Mat<Dim> Ds;
-    for (int a = 1; a <= Dim; ++a) Ds.col(a - 1) = x[c[size_t(a)]] - x[c[0]];
+    const Mat<Dim> Ds = edge_matrix<Dim>(el.corners[e], x);
     Mat<Dim> F = Ds * el.rest_inverse[e];
     PlasticState state = el.plastic[e];
     if (!return_map(pp, &F, &state)) return 0;
@@ -872,7 +872,7 @@ size_t fem_memory_bytes(const FemState<Dim>& st) {
   const FemElements<Dim>& el = st.elements;
   size_t bytes = st.nodes.memory_bytes();
   bytes += el.size() * (sizeof(typename FemElements<Dim>::Corners) + 2 * sizeof(Mat<Dim>) +
-                        2 * sizeof(Real) + sizeof(uint16_t) + sizeof(PlasticState));
+                        3 * sizeof(Real) + sizeof(uint16_t) + sizeof(PlasticState));
   bytes += st.mass_damping.size() * sizeof(Real);
   bytes += st.incident.size() * sizeof(uint32_t) + st.faces.size() * sizeof(st.faces[0]);
   if (st.assembly) {

@@ -44,6 +44,7 @@ struct FemElements {
 struct FemBody {
   size_t node_begin = 0, node_end = 0, element_begin = 0, element_end = 0;
   size_t face_begin = 0, face_end = 0;  // its boundary faces in FemState::faces
+  MeshFigures figures;                  // of its mesh at rest (mesh_figures)
 };
 
 // What the implicit solve did, summed since the last reset (FrameStats' implicit figures).
